@@ -1,0 +1,58 @@
+#pragma once
+// The vocabulary every contact law speaks. One ContactGeometry is built per touching pair (or
+// particle-wall pair) and handed, read-only, to the sub-models in the order fixed by
+// ContactModel::evaluate: normal -> cohesion -> tangential -> rolling.
+//
+// Conventions: `n` is the unit normal pointing from j (or the wall) towards i; overlap > 0 in
+// contact; v_rel is the velocity of i relative to j at the contact point, so vn = v_rel . n is
+// negative while the pair approaches. Forces returned are those acting ON i.
+#include <limits>
+
+#include "granule/core/dimension.hpp"
+#include "granule/materials/pair_material.hpp"
+
+namespace granule::contact {
+
+template <class D>
+struct ContactGeometry {
+  using Vec = typename D::Vec;
+  using AngVec = typename D::AngVec;
+  Vec n;                ///< unit normal, j -> i
+  double overlap;       ///< delta [m]
+  double distance;      ///< centre distance [m]; +inf for a wall (flat-contact limit)
+  double r_i, r_j;      ///< radii [m]; r_j = +inf for a wall
+  double arm_i, arm_j;  ///< distances from the centres of i and j to the contact point [m]
+  double r_eff;         ///< R* [m]
+  double m_eff;         ///< m* [kg]
+  Vec v_rel;            ///< relative velocity at the contact point [m/s]
+  double vn;            ///< v_rel . n [m/s]
+  Vec vt;               ///< tangential part of v_rel [m/s]
+  AngVec omega_rel;     ///< omega_i - omega_j [rad/s]
+  double i_roll;        ///< rolling inertia I_r, 1/I_r = sum 1/(I + m r^2) (Ai et al. 2011)
+                        ///< [kg m^2]; filled only when the rolling model asks for it
+  double dt;            ///< time step [s]
+};
+
+/// What the normal law hands to the later sub-models.
+struct NormalResult {
+  double fn = 0.0;          ///< total normal force along n on i (repulsive > 0) [N]
+  double fn_elastic = 0.0;  ///< elastic part [N]
+  double kn = 0.0;          ///< secant normal stiffness fn_elastic / overlap [N/m]
+};
+
+/// Total force of one contact. Torques include the lever arm of the tangential force and the
+/// rolling torque; torque_j is the torque on j (walls ignore it).
+template <class D>
+struct ContactForce {
+  typename D::Vec force = D::zero();              ///< force on i [N]; j receives -force
+  typename D::AngVec torque_i = D::zero_ang();    ///< [N m]
+  typename D::AngVec torque_j = D::zero_ang();    ///< [N m]
+  double fn = 0.0;                                ///< normal force magnitude (signed) [N]
+  typename D::Vec ft = D::zero();                 ///< tangential force on i [N]
+};
+
+/// Slot for a sub-model without per-contact history.
+template <class D>
+struct NoState {};
+
+}  // namespace granule::contact

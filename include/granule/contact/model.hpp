@@ -1,0 +1,110 @@
+#pragma once
+// ContactModel composes one sub-model per slot and fixes the order in which they run:
+//
+//   normal -> cohesion -> tangential -> rolling
+//
+// The tangential and rolling laws see the normal force including cohesion (their limits use
+// |F_n| as in paper 001 eq. A12 and A14). Each slot is a policy with
+//   Params  make(const PairMaterial&)          precomputed once per material pair
+//   State<D>                                    per-contact history (empty struct if none)
+//   eval(Params, ContactGeometry<D>, ...)       a few lines of maths, no branching on options
+// A model whose slots are all stateless has an empty State and the neighbour list then stores no
+// history at all. See docs/adding_a_contact_law.md for the slot contracts.
+#include <type_traits>
+
+#include "granule/contact/cohesion/none.hpp"
+#include "granule/contact/cohesion/sjkr.hpp"
+#include "granule/contact/geometry.hpp"
+#include "granule/contact/normal/hertz.hpp"
+#include "granule/contact/normal/linear.hpp"
+#include "granule/contact/rolling/constant_torque.hpp"
+#include "granule/contact/rolling/epsd.hpp"
+#include "granule/contact/rolling/none.hpp"
+#include "granule/contact/tangential/incremental_coulomb.hpp"
+#include "granule/contact/tangential/none.hpp"
+#include "granule/contact/tangential/spring.hpp"
+
+namespace granule::contact {
+
+template <class Normal, class Tangential = NoTangential, class Rolling = NoRolling,
+          class Cohesion = NoCohesion>
+struct ContactModel {
+  using NormalLaw = Normal;
+  using TangentialLaw = Tangential;
+  using RollingLaw = Rolling;
+  using CohesionLaw = Cohesion;
+
+  static_assert(!(Normal::hertzian && std::is_same_v<Tangential, LinearTangential>),
+                "ContactModel<HertzNormal, LinearTangential>: the linear tangential spring takes "
+                "k_t from the linear normal stiffness; use MindlinTangential with HertzNormal");
+
+  struct Params {
+    typename Normal::Params normal;
+    typename Tangential::Params tangential;
+    typename Rolling::Params rolling;
+    typename Cohesion::Params cohesion;
+  };
+
+  template <class D>
+  struct State {
+    [[no_unique_address]] typename Tangential::template State<D> tangential;
+    [[no_unique_address]] typename Rolling::template State<D> rolling;
+  };
+
+  /// True when contacts carry history (the neighbour list then stores one State per entry).
+  template <class D>
+  static constexpr bool has_state = !std::is_empty_v<State<D>>;
+  static constexpr bool needs_rolling_inertia = Rolling::needs_inertia;
+
+  /// thickness: out-of-plane thickness of 2D disks [m] (used by 2D cohesion).
+  static Params make(const PairMaterial& p, double thickness = 1.0) {
+    return {Normal::make(p), Tangential::make(p), Rolling::make(p), Cohesion::make(p, thickness)};
+  }
+
+  template <class D>
+  static ContactForce<D> evaluate(const Params& p, const ContactGeometry<D>& g, State<D>& s) {
+    NormalResult nr = Normal::eval(p.normal, g);
+    nr.fn -= Cohesion::eval(p.cohesion, g);
+    const typename D::Vec ft = Tangential::eval(p.tangential, g, nr, s.tangential);
+    const typename D::AngVec mr = Rolling::eval(p.rolling, g, nr, s.rolling);
+    ContactForce<D> f;
+    f.fn = nr.fn;
+    f.ft = ft;
+    f.force = nr.fn * g.n + ft;
+    const typename D::AngVec nxft = D::cross(g.n, ft);
+    f.torque_i = -g.arm_i * nxft + mr;
+    f.torque_j = -g.arm_j * nxft - mr;
+    return f;
+  }
+
+  /// Elastic energy stored in the contact: normal spring + tangential and rolling springs [J].
+  /// Cohesion energy is not included.
+  template <class D>
+  static double stored_energy(const Params& p, const ContactGeometry<D>& g, const State<D>& s) {
+    NormalResult nr = Normal::eval(p.normal, g);
+    nr.fn -= Cohesion::eval(p.cohesion, g);
+    return Normal::elastic_energy(p.normal, g.overlap, g.r_eff) +
+           Tangential::energy(p.tangential, g, nr, s.tangential) +
+           Rolling::energy(p.rolling, g, nr, s.rolling);
+  }
+
+  /// History of (i, j) turned into the history of (j, i).
+  template <class D>
+  static void reverse(State<D>& s) {
+    Tangential::reverse(s.tangential);
+    Rolling::reverse(s.rolling);
+  }
+};
+
+// The blessed combinations used by the examples and benchmarks.
+using LinearFrictionless = ContactModel<LinearNormal>;
+using LinearSpringDashpot = ContactModel<LinearNormal, LinearTangential>;
+using HertzFrictionless = ContactModel<HertzNormal>;
+using HertzMindlin = ContactModel<HertzNormal, MindlinTangential>;
+using HertzMindlinLegacy = ContactModel<HertzNormal, MindlinTangentialLegacy>;
+using HertzMindlinEpsd = ContactModel<HertzNormal, MindlinTangential, EpsdRolling>;
+using HertzMindlinEpsdSjkr = ContactModel<HertzNormal, MindlinTangential, EpsdRolling, SjkrCohesion>;
+/// Paper 002: linear normal law, incremental regularised Coulomb friction, rolling friction.
+using LinearCoulombRolling = ContactModel<LinearNormal, IncrementalCoulombTangential, EpsdRolling>;
+
+}  // namespace granule::contact

@@ -1,0 +1,61 @@
+#pragma once
+// Elastic-plastic spring-dashpot (EPSD) rolling resistance: paper 001 eq. A13-A15, after Ai,
+// Chen, Rotter & Ooi (2011), model C, and Iwashita & Oda (1998).
+//
+//   M_k <- M_k - k_r w_r dt,        |M_k| <= M_m = mu_r R* |F_n|   (rescaled: full mobilisation)
+//   M_d  = -C_r w_r  while |M_k| < M_m,  0 once fully mobilised    (001 eq. A15)
+//   k_r  = c k_n mu_r^2 R*^2,       C_r = eta_r 2 sqrt(I_r k_r)
+// with w_r = omega_i - omega_j (the whole relative rotation, so twisting is resisted too, as
+// 001 section A states), k_n the normal law's secant stiffness, c = 2.25 (Ai et al. 2011 eq. 13;
+// 001 eq. A14 prints 2.55 -- see docs/physics.md), eta_r the rolling damping ratio and I_r the
+// rolling inertia 1/I_r = 1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2) (Ai et al. 2011 eq. 14).
+#include <cmath>
+
+#include "granule/contact/geometry.hpp"
+#include "granule/contact/tangential/history.hpp"
+
+namespace granule::contact {
+
+struct EpsdRolling {
+  struct Params {
+    double mu_r = 0.0;    ///< [-]
+    double factor = 2.25; ///< c in k_r = c k_n mu_r^2 R*^2 [-]
+    double eta_r = 0.0;   ///< damping ratio [-]
+  };
+  template <class D>
+  struct State {
+    typename D::AngVec m_spring = D::zero_ang();  ///< spring torque on i [N m]
+  };
+  static constexpr bool needs_inertia = true;
+  static Params make(const PairMaterial& p) {
+    return {p.mu_r, p.rolling_stiffness_factor, p.rolling_damping};
+  }
+
+  template <class D>
+  static typename D::AngVec eval(const Params& p, const ContactGeometry<D>& g,
+                                 const NormalResult& nr, State<D>& s) {
+    const double kr = p.factor * nr.kn * p.mu_r * p.mu_r * g.r_eff * g.r_eff;
+    const double m_max = p.mu_r * g.r_eff * std::abs(nr.fn);
+    s.m_spring -= kr * g.dt * g.omega_rel;
+    const double m2 = D::squared_norm(s.m_spring);
+    if (m2 >= m_max * m_max) {
+      s.m_spring *= m2 > 0.0 ? m_max / std::sqrt(m2) : 0.0;
+      return s.m_spring;  // fully mobilised: no damping (001 eq. A15)
+    }
+    const double cr = p.eta_r * 2.0 * std::sqrt(g.i_roll * kr);
+    return s.m_spring - cr * g.omega_rel;
+  }
+  /// Energy stored in the rolling spring, |M_k|^2 / (2 k_r) [J].
+  template <class D>
+  static double energy(const Params& p, const ContactGeometry<D>& g, const NormalResult& nr,
+                       const State<D>& s) {
+    const double kr = p.factor * nr.kn * p.mu_r * p.mu_r * g.r_eff * g.r_eff;
+    return kr > 0.0 ? 0.5 * D::squared_norm(s.m_spring) / kr : 0.0;
+  }
+  template <class D>
+  static void reverse(State<D>& s) {
+    reverse_history(s.m_spring);
+  }
+};
+
+}  // namespace granule::contact

@@ -1,0 +1,26 @@
+#pragma once
+// No rolling resistance: no torque beyond the lever arm of the tangential force, no history.
+#include "granule/contact/geometry.hpp"
+
+namespace granule::contact {
+
+struct NoRolling {
+  struct Params {};
+  template <class D>
+  using State = NoState<D>;
+  static constexpr bool needs_inertia = false;
+  static Params make(const PairMaterial&) { return {}; }
+  template <class D>
+  static typename D::AngVec eval(const Params&, const ContactGeometry<D>&, const NormalResult&,
+                                 State<D>&) {
+    return D::zero_ang();
+  }
+  template <class D>
+  static double energy(const Params&, const ContactGeometry<D>&, const NormalResult&, const State<D>&) {
+    return 0.0;
+  }
+  template <class D>
+  static void reverse(State<D>&) {}
+};
+
+}  // namespace granule::contact

@@ -1,0 +1,50 @@
+#pragma once
+// Incremental regularised Coulomb friction (paper 002 section 2.3, after Cundall & Strack 1979
+// and Radjai & Dubois 2011): the tangential force itself is the history,
+//
+//   F_t <- project(F_t, n) - k_t v_t dt,        |F_t| <= mu_s |F_n|  (rescaled when exceeded)
+//   k_t = r k_n  with k_n the normal law's secant stiffness and r the material's
+//   tangential_stiffness_ratio (002 uses r = 1/2).
+// There is no tangential dashpot: dissipation comes from sliding and from the normal law.
+#include <cmath>
+
+#include "granule/contact/geometry.hpp"
+#include "granule/contact/tangential/history.hpp"
+
+namespace granule::contact {
+
+struct IncrementalCoulombTangential {
+  struct Params {
+    double ratio = 0.5;  ///< k_t / k_n [-]
+    double mu_s = 0.0;   ///< [-]
+  };
+  template <class D>
+  struct State {
+    typename D::Vec ft = D::zero();  ///< tangential force on i [N]
+  };
+  static Params make(const PairMaterial& p) { return {p.kt_ratio, p.mu_s}; }
+
+  template <class D>
+  static typename D::Vec eval(const Params& p, const ContactGeometry<D>& g, const NormalResult& nr,
+                              State<D>& s) {
+    project_history(s.ft, g.n, true);
+    s.ft -= p.ratio * nr.kn * g.dt * g.vt;
+    const double limit = p.mu_s * std::abs(nr.fn);
+    const double f2 = s.ft.squaredNorm();
+    if (f2 > limit * limit) s.ft *= limit / std::sqrt(f2);
+    return s.ft;
+  }
+  /// Energy stored in the tangential spring, |F_t|^2 / (2 k_t) [J].
+  template <class D>
+  static double energy(const Params& p, const ContactGeometry<D>&, const NormalResult& nr,
+                       const State<D>& s) {
+    const double kt = p.ratio * nr.kn;
+    return kt > 0.0 ? 0.5 * s.ft.squaredNorm() / kt : 0.0;
+  }
+  template <class D>
+  static void reverse(State<D>& s) {
+    reverse_history(s.ft);
+  }
+};
+
+}  // namespace granule::contact

@@ -1,0 +1,25 @@
+#pragma once
+// Frictionless contacts: no tangential force and no per-contact history.
+#include "granule/contact/geometry.hpp"
+
+namespace granule::contact {
+
+struct NoTangential {
+  struct Params {};
+  template <class D>
+  using State = NoState<D>;
+  static Params make(const PairMaterial&) { return {}; }
+  template <class D>
+  static typename D::Vec eval(const Params&, const ContactGeometry<D>&, const NormalResult&,
+                              State<D>&) {
+    return D::zero();
+  }
+  template <class D>
+  static double energy(const Params&, const ContactGeometry<D>&, const NormalResult&, const State<D>&) {
+    return 0.0;
+  }
+  template <class D>
+  static void reverse(State<D>&) {}
+};
+
+}  // namespace granule::contact

@@ -1,0 +1,403 @@
+#pragma once
+// The half neighbour list shared by every search policy, with per-contact history stored next
+// to it, periodic ghosts, the spatial sort and the history transfer across rebuilds.
+//
+// Layout (CSR): row i (a real particle slot) lists slots j of particles within r_i + r_j + skin,
+// each pair once: for two real particles the one with the larger slot is in the row of the
+// smaller; a ghost (periodic image) is always in the row of the real particle. Wall candidates
+// (wall index, surface feature) within r_i + skin are listed per row the same way.
+//
+// History keys: a pair entry is keyed by (id of the partner, code of the relative periodic image)
+// so that history survives re-sorting, wrapping through a periodic face and the pair moving to
+// the other particle's row (then it is reversed: ContactModel::reverse).
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "granule/core/error.hpp"
+#include "granule/neighbours/domain.hpp"
+#include "granule/particles/particle_store.hpp"
+
+namespace granule::neighbours {
+
+/// A wall surface feature a particle may touch before the next rebuild.
+struct WallEntry {
+  std::uint32_t wall = 0;
+  std::uint32_t feature = 0;
+  std::uint64_t key() const { return (std::uint64_t(wall) << 32) | feature; }
+};
+
+template <class D, class State, bool HasState>
+class PairList {
+ public:
+  using Vec = typename D::Vec;
+  using Image = typename ParticleStore<D>::Image;
+  static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+  std::vector<std::uint32_t> row_begin;   ///< size owned + 1
+  std::vector<std::uint32_t> nbr;         ///< partner slot per entry
+  std::vector<State> state;               ///< history per entry (empty when !HasState)
+  std::vector<std::uint32_t> wall_begin;  ///< size owned + 1
+  std::vector<WallEntry> wall;            ///< wall candidates per row
+  std::vector<State> wall_state;          ///< history per wall entry (empty when !HasState)
+  std::vector<std::uint32_t> layer_begin; ///< row ranges of the cell layers (size layers + 1)
+  std::vector<Vec> x_at_build;            ///< positions of real particles at the last build
+  std::size_t builds = 0;
+
+  std::size_t layers() const { return layer_begin.empty() ? 0 : layer_begin.size() - 1; }
+  std::size_t entries() const { return nbr.size(); }
+
+  /// Rebuilds the list. `reversed(State&)` turns a pair's history into its mirror image;
+  /// `collect_walls(slot, x, reach, emit)` must call emit(wall, feature) for every wall feature
+  /// within `reach` of x.
+  template <class Policy, class Reverse, class CollectWalls>
+  void rebuild(ParticleStore<D>& p, const Domain<D>& dom, double skin, Reverse&& reversed,
+               CollectWalls&& collect_walls) {
+    domain_cache_ = dom;
+    p.clear_ghosts();
+    wrap(p, dom);
+    const std::size_t n = p.owned();
+    double r_max = 0.0;
+    for (std::size_t i = 0; i < n; ++i) r_max = std::max(r_max, p.radius[i]);
+    const double range = 2.0 * r_max + skin;
+    const Vec L = dom.length();
+    for (int k = 0; k < D::dim; ++k)
+      if (dom.periodic[k] && L[k] <= 2.0 * range)
+        throw InvalidParameter("Domain: periodic length along axis " + std::to_string(k) + " = " +
+                               detail::to_text(L[k]) + " m must exceed twice the interaction "
+                               "range 2 (2 r_max + skin) = " + detail::to_text(2.0 * range) + " m");
+
+    if constexpr (Policy::uses_cells) {
+      setup_grid(dom, range);
+      sort_by_cell(p, dom);
+    }
+    make_ghosts(p, dom, range);
+    if constexpr (Policy::uses_cells) bin_all(p, dom);
+
+    // Old rows, indexed by particle id, for the history transfer.
+    old_row_begin_.swap(row_begin);
+    old_key_.swap(key_);
+    old_state_.swap(state);
+    old_wall_begin_.swap(wall_begin);
+    old_wall_.swap(wall);
+    old_wall_state_.swap(wall_state);
+    old_row_of_id_.swap(row_of_id_);
+
+    build_rows<Policy>(p, skin);
+    build_walls(p, skin, collect_walls);
+    if constexpr (HasState) transfer(p, reversed);
+
+    layer_begin.clear();
+    if constexpr (Policy::uses_cells) {
+      const int a = layer_axis_;
+      const int nl = ncell_[a];
+      layer_begin.assign(static_cast<std::size_t>(nl) + 1, 0);
+      std::size_t i = 0;
+      for (int l = 0; l < nl; ++l) {
+        layer_begin[l] = static_cast<std::uint32_t>(i);
+        while (i < n && cell_coord(p.x[i], dom, a) <= l) ++i;
+      }
+      layer_begin[nl] = static_cast<std::uint32_t>(n);
+    } else {
+      layer_begin = {0u, static_cast<std::uint32_t>(n)};
+    }
+    x_at_build.assign(p.x.begin(), p.x.begin() + n);
+    ++builds;
+  }
+
+  /// Slot of the row holding particle `id` (kNone if absent); valid until the next rebuild.
+  std::uint32_t row_of_id(std::uint64_t id) const {
+    return id < row_of_id_.size() ? row_of_id_[id] : kNone;
+  }
+
+  /// Approximate memory held by the list and its history [bytes].
+  std::size_t memory_bytes() const {
+    return row_begin.capacity() * 4 + nbr.capacity() * 4 + key_.capacity() * 8 +
+           state.capacity() * sizeof(State) * HasState + wall_begin.capacity() * 4 +
+           wall.capacity() * sizeof(WallEntry) + wall_state.capacity() * sizeof(State) * HasState +
+           x_at_build.capacity() * sizeof(Vec) + cell_start_.capacity() * 4 +
+           cell_items_.capacity() * 4 + row_of_id_.capacity() * 4;
+  }
+
+ private:
+  // ---- periodic wrapping --------------------------------------------------------------------
+  static void wrap(ParticleStore<D>& p, const Domain<D>& dom) {
+    const Vec L = dom.length();
+    for (std::size_t i = 0; i < p.owned(); ++i) {
+      for (int k = 0; k < D::dim; ++k) {
+        if (!dom.periodic[k]) continue;
+        if (p.x[i][k] < dom.lo[k] || p.x[i][k] >= dom.hi[k]) {
+          const double s = std::floor((p.x[i][k] - dom.lo[k]) / L[k]);
+          p.x[i][k] -= s * L[k];
+          if (p.x[i][k] >= dom.hi[k]) p.x[i][k] = dom.lo[k];  // round-off at the face
+          p.image[i][k] += static_cast<int>(s);
+        }
+      }
+    }
+  }
+
+  // ---- cells ---------------------------------------------------------------------------------
+  void setup_grid(const Domain<D>& dom, double range) {
+    const Vec L = dom.length();
+    int best = 0;
+    for (int k = 0; k < D::dim; ++k) {
+      ncell_[k] = std::max(1, static_cast<int>(std::floor(L[k] / range)));
+      // Bound the grid so a sparse box cannot exhaust memory.
+      ncell_[k] = std::min(ncell_[k], 1 << 20);
+      cell_size_[k] = L[k] / ncell_[k];
+      margin_[k] = dom.periodic[k] ? 1 : 0;
+      ext_[k] = ncell_[k] + 2 * margin_[k];
+      if (ncell_[k] > ncell_[best]) best = k;
+    }
+    layer_axis_ = best;
+    // Linear cell index with the layer axis slowest.
+    order_.clear();
+    order_.push_back(layer_axis_);
+    for (int k = 0; k < D::dim; ++k)
+      if (k != layer_axis_) order_.push_back(k);
+    std::size_t total = 1;
+    for (int k = 0; k < D::dim; ++k) total *= static_cast<std::size_t>(ext_[k]);
+    if (total > (std::size_t(1) << 28))
+      throw InvalidParameter("PairList: the cell grid would have " + std::to_string(total) +
+                             " cells; the domain is too large for the particle size (reduce the "
+                             "domain or increase the skin)");
+    ncells_total_ = total;
+  }
+
+  int cell_coord(const Vec& x, const Domain<D>& dom, int k) const {
+    int c = static_cast<int>(std::floor((x[k] - dom.lo[k]) / cell_size_[k]));
+    return std::clamp(c, -margin_[k], ncell_[k] - 1 + margin_[k]);
+  }
+
+  std::size_t cell_index(const Vec& x, const Domain<D>& dom) const {
+    std::size_t idx = 0;
+    for (int k : order_) idx = idx * ext_[k] + static_cast<std::size_t>(cell_coord(x, dom, k) + margin_[k]);
+    return idx;
+  }
+
+  void sort_by_cell(ParticleStore<D>& p, const Domain<D>& dom) {
+    const std::size_t n = p.owned();
+    cell_of_.resize(n);
+    std::vector<std::uint32_t> count(ncells_total_ + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      cell_of_[i] = static_cast<std::uint32_t>(cell_index(p.x[i], dom));
+      ++count[cell_of_[i] + 1];
+    }
+    for (std::size_t c = 0; c < ncells_total_; ++c) count[c + 1] += count[c];
+    std::vector<std::uint32_t> perm(n);
+    for (std::size_t i = 0; i < n; ++i) perm[count[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
+    p.permute(perm);
+  }
+
+  void bin_all(const ParticleStore<D>& p, const Domain<D>& dom) {
+    const std::size_t m = p.size();
+    cell_of_.resize(m);
+    cell_start_.assign(ncells_total_ + 1, 0);
+    for (std::size_t i = 0; i < m; ++i) {
+      cell_of_[i] = static_cast<std::uint32_t>(cell_index(p.x[i], dom));
+      ++cell_start_[cell_of_[i] + 1];
+    }
+    for (std::size_t c = 0; c < ncells_total_; ++c) cell_start_[c + 1] += cell_start_[c];
+    cell_items_.resize(m);
+    std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+    for (std::size_t i = 0; i < m; ++i) cell_items_[fill[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
+  }
+
+  // ---- ghosts --------------------------------------------------------------------------------
+  void make_ghosts(ParticleStore<D>& p, const Domain<D>& dom, double range) {
+    if (!dom.periodic.any()) return;
+    // Shifts in the positive half of {-1,0,1}^d (first non-zero component +1), restricted to
+    // periodic axes: each periodic pair then appears exactly once.
+    std::vector<Image> shifts;
+    const int total = D::dim == 2 ? 9 : 27;
+    for (int code = 0; code < total; ++code) {
+      Image s;
+      int c = code;
+      bool ok = true;
+      for (int k = 0; k < D::dim; ++k) {
+        s[k] = c % 3 - 1;
+        c /= 3;
+        if (s[k] != 0 && !dom.periodic[k]) ok = false;
+      }
+      if (!ok || s.isZero()) continue;
+      int first = 0;
+      for (int k = 0; k < D::dim; ++k)
+        if (s[k] != 0) { first = s[k]; break; }
+      if (first > 0) shifts.push_back(s);
+    }
+    const std::size_t n = p.owned();
+    for (std::size_t i = 0; i < n; ++i) {
+      for (const Image& s : shifts) {
+        bool near = true;
+        for (int k = 0; k < D::dim && near; ++k) {
+          if (s[k] > 0) near = p.x[i][k] < dom.lo[k] + range;
+          if (s[k] < 0) near = p.x[i][k] > dom.hi[k] - range;
+        }
+        if (near) p.add_ghost(static_cast<std::uint32_t>(i), s, dom.length());
+      }
+    }
+  }
+
+  // ---- rows ----------------------------------------------------------------------------------
+  template <class Policy>
+  void build_rows(const ParticleStore<D>& p, double skin) {
+    const std::size_t n = p.owned();
+    row_begin.assign(n + 1, 0);
+    auto pair_ok = [&](std::size_t i, std::size_t j) {
+      if (p.inv_mass[i] + p.inv_mass[j] == 0.0 && p.motion[i] == Motion::Frozen &&
+          p.motion[j] == Motion::Frozen)
+        return false;
+      const double rc = p.radius[i] + p.radius[j] + skin;
+      return (p.x[i] - p.x[j]).squaredNorm() < rc * rc;
+    };
+    auto visit = [&](std::size_t i, auto&& emit) {
+      if constexpr (Policy::uses_cells) {
+        Eigen::Matrix<int, D::dim, 1> c;
+        for (int k = 0; k < D::dim; ++k) c[k] = cell_coord_cached(i, k);
+        const int total = D::dim == 2 ? 9 : 27;
+        for (int code = 0; code < total; ++code) {
+          int cc = code;
+          std::size_t idx = 0;
+          bool inside = true;
+          Eigen::Matrix<int, D::dim, 1> q;
+          for (int k = 0; k < D::dim; ++k) {
+            q[k] = c[k] + cc % 3 - 1;
+            cc /= 3;
+            if (q[k] < -margin_[k] || q[k] > ncell_[k] - 1 + margin_[k]) inside = false;
+          }
+          if (!inside) continue;
+          for (int k : order_) idx = idx * ext_[k] + static_cast<std::size_t>(q[k] + margin_[k]);
+          for (std::uint32_t t = cell_start_[idx]; t < cell_start_[idx + 1]; ++t) {
+            const std::uint32_t j = cell_items_[t];
+            if (j < n && j <= i) continue;
+            if (pair_ok(i, j)) emit(j);
+          }
+        }
+      } else {
+        for (std::size_t j = i + 1; j < p.size(); ++j)
+          if (pair_ok(i, j)) emit(static_cast<std::uint32_t>(j));
+      }
+    };
+    cell_coords_.resize(n);
+    if constexpr (Policy::uses_cells) {
+      for (std::size_t i = 0; i < n; ++i)
+        for (int k = 0; k < D::dim; ++k) cell_coords_[i][k] = cell_coord(p.x[i], domain_cache_, k);
+    }
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      std::uint32_t cnt = 0;
+      visit(i, [&](std::uint32_t) { ++cnt; });
+      row_begin[i + 1] = cnt;
+    }
+    for (std::size_t i = 0; i < n; ++i) row_begin[i + 1] += row_begin[i];
+    nbr.resize(row_begin[n]);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      std::uint32_t pos = row_begin[i];
+      visit(i, [&](std::uint32_t j) { nbr[pos++] = j; });
+      std::sort(nbr.begin() + row_begin[i], nbr.begin() + row_begin[i + 1]);
+    }
+    row_of_id_.assign(max_id(p) + 1, kNone);
+    for (std::size_t i = 0; i < n; ++i) row_of_id_[p.id[i]] = static_cast<std::uint32_t>(i);
+    if constexpr (HasState) {
+      key_.resize(nbr.size());
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::uint32_t e = row_begin[i]; e < row_begin[i + 1]; ++e) key_[e] = pair_key(p, i, nbr[e]);
+      state.assign(nbr.size(), State{});
+    }
+  }
+
+  int cell_coord_cached(std::size_t i, int k) const { return cell_coords_[i][k]; }
+
+  template <class CollectWalls>
+  void build_walls(const ParticleStore<D>& p, double skin, CollectWalls&& collect_walls) {
+    const std::size_t n = p.owned();
+    wall_begin.assign(n + 1, 0);
+    wall.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      collect_walls(i, p.x[i], p.radius[i] + skin, [&](std::uint32_t w, std::uint32_t feature) {
+        wall.push_back({w, feature});
+      });
+      wall_begin[i + 1] = static_cast<std::uint32_t>(wall.size());
+    }
+    if constexpr (HasState) wall_state.assign(wall.size(), State{});
+  }
+
+  static std::size_t max_id(const ParticleStore<D>& p) {
+    std::uint64_t m = 0;
+    for (std::size_t i = 0; i < p.owned(); ++i) m = std::max(m, p.id[i]);
+    return static_cast<std::size_t>(m);
+  }
+
+  /// Relative periodic image of j as seen from row i, folded into [0, 5^d).
+  static std::uint64_t image_code(const Image& rel) {
+    std::uint64_t code = 0;
+    for (int k = D::dim - 1; k >= 0; --k) code = code * 5 + static_cast<std::uint64_t>(((rel[k] % 5) + 5) % 5);
+    return code;
+  }
+  static constexpr std::uint64_t kImageCodes = D::dim == 2 ? 25 : 125;
+
+  static Image relative_image(const ParticleStore<D>& p, std::size_t i, std::size_t j) {
+    if (j < p.owned()) return Image(p.image[i] - p.image[j]);
+    const std::size_t g = j - p.owned();
+    const std::uint32_t o = p.ghost_owner[g];
+    return Image(p.ghost_shift[g] - p.image[o] + p.image[i]);
+  }
+
+  static std::uint64_t pair_key(const ParticleStore<D>& p, std::size_t i, std::size_t j) {
+    return p.id[j] * kImageCodes + image_code(relative_image(p, i, j));
+  }
+
+  template <class Reverse>
+  void transfer(const ParticleStore<D>& p, Reverse&& reversed) {
+    if (old_row_begin_.empty()) return;
+    const std::size_t n = p.owned();
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint64_t id_i = p.id[i];
+      const std::uint32_t old_i = id_i < old_row_of_id_.size() ? old_row_of_id_[id_i] : kNone;
+      for (std::uint32_t e = row_begin[i]; e < row_begin[i + 1]; ++e) {
+        const std::uint64_t k = key_[e];
+        bool found = false;
+        if (old_i != kNone) {
+          for (std::uint32_t o = old_row_begin_[old_i]; o < old_row_begin_[old_i + 1]; ++o)
+            if (old_key_[o] == k) { state[e] = old_state_[o]; found = true; break; }
+        }
+        if (found) continue;
+        // The pair may have been stored in the partner's row, seen from the other side.
+        const std::uint64_t id_j = k / kImageCodes;
+        const std::uint32_t old_j = id_j < old_row_of_id_.size() ? old_row_of_id_[id_j] : kNone;
+        if (old_j == kNone) continue;
+        const Image rel = relative_image(p, i, nbr[e]);
+        const std::uint64_t back = id_i * kImageCodes + image_code(Image(-rel));
+        for (std::uint32_t o = old_row_begin_[old_j]; o < old_row_begin_[old_j + 1]; ++o)
+          if (old_key_[o] == back) { state[e] = old_state_[o]; reversed(state[e]); break; }
+      }
+      if (old_i == kNone) continue;
+      for (std::uint32_t e = wall_begin[i]; e < wall_begin[i + 1]; ++e)
+        for (std::uint32_t o = old_wall_begin_[old_i]; o < old_wall_begin_[old_i + 1]; ++o)
+          if (old_wall_[o].key() == wall[e].key()) { wall_state[e] = old_wall_state_[o]; break; }
+    }
+  }
+
+  Domain<D> domain_cache_;
+  int ncell_[D::dim] = {};
+  int ext_[D::dim] = {};
+  int margin_[D::dim] = {};
+  double cell_size_[D::dim] = {};
+  int layer_axis_ = 0;
+  std::vector<int> order_;
+  std::size_t ncells_total_ = 0;
+  std::vector<std::uint32_t> cell_of_, cell_start_, cell_items_;
+  std::vector<Eigen::Matrix<int, D::dim, 1>> cell_coords_;
+  std::vector<std::uint64_t> key_;
+  std::vector<std::uint32_t> row_of_id_;
+  std::vector<std::uint32_t> old_row_begin_, old_row_of_id_, old_wall_begin_;
+  std::vector<std::uint64_t> old_key_;
+  std::vector<State> old_state_, old_wall_state_;
+  std::vector<WallEntry> old_wall_;
+};
+
+}  // namespace granule::neighbours
