@@ -10,6 +10,7 @@
 //   eval(Params, ContactGeometry<D>, ...)       a few lines of maths, no branching on options
 // A model whose slots are all stateless has an empty State and the neighbour list then stores no
 // history at all. See docs/adding_a_contact_law.md for the slot contracts.
+#include <string>
 #include <type_traits>
 
 #include "granule/contact/cohesion/none.hpp"
@@ -55,6 +56,12 @@ struct ContactModel {
   template <class D>
   static constexpr bool has_state = !std::is_empty_v<State<D>>;
   static constexpr bool needs_rolling_inertia = Rolling::needs_inertia;
+
+  /// Names the composition; checkpoints refuse to load into a different model.
+  static std::string signature() {
+    return "ContactModel<" + Normal::signature() + "," + Tangential::signature() + "," +
+           Rolling::signature() + "," + Cohesion::signature() + ">";
+  }
 
   /// thickness: out-of-plane thickness of 2D disks [m] (used by 2D cohesion).
   static Params make(const PairMaterial& p, double thickness = 1.0) {

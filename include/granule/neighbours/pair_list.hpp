@@ -112,6 +112,21 @@ class PairList {
     return id < row_of_id_.size() ? row_of_id_[id] : kNone;
   }
 
+  /// Writes everything a later step depends on (rows, history, keys, layers, build positions),
+  /// so that a restart continues bitwise identically without an extra rebuild.
+  template <class W>
+  void save(W& w) const {
+    w.vec(row_begin); w.vec(nbr); w.vec(state); w.vec(wall_begin); w.vec(wall); w.vec(wall_state);
+    w.vec(layer_begin); w.vec(x_at_build); w.vec(key_); w.vec(row_of_id_);
+    w.template pod<std::uint64_t>(builds);
+  }
+  template <class R>
+  void load(R& r) {
+    r.vec(row_begin); r.vec(nbr); r.vec(state); r.vec(wall_begin); r.vec(wall); r.vec(wall_state);
+    r.vec(layer_begin); r.vec(x_at_build); r.vec(key_); r.vec(row_of_id_);
+    builds = r.template pod<std::uint64_t>();
+  }
+
   /// Approximate memory held by the list and its history [bytes].
   std::size_t memory_bytes() const {
     return row_begin.capacity() * 4 + nbr.capacity() * 4 + key_.capacity() * 8 +
@@ -285,7 +300,7 @@ class PairList {
       for (std::size_t i = 0; i < n; ++i)
         for (int k = 0; k < D::dim; ++k) cell_coords_[i][k] = cell_coord(p.x[i], domain_cache_, k);
     }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= 2048)
     for (std::size_t i = 0; i < n; ++i) {
       std::uint32_t cnt = 0;
       visit(i, [&](std::uint32_t) { ++cnt; });
@@ -293,7 +308,7 @@ class PairList {
     }
     for (std::size_t i = 0; i < n; ++i) row_begin[i + 1] += row_begin[i];
     nbr.resize(row_begin[n]);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= 2048)
     for (std::size_t i = 0; i < n; ++i) {
       std::uint32_t pos = row_begin[i];
       visit(i, [&](std::uint32_t j) { nbr[pos++] = j; });
@@ -354,7 +369,7 @@ class PairList {
   void transfer(const ParticleStore<D>& p, Reverse&& reversed) {
     if (old_row_begin_.empty()) return;
     const std::size_t n = p.owned();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= 2048)
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint64_t id_i = p.id[i];
       const std::uint32_t old_i = id_i < old_row_of_id_.size() ? old_row_of_id_[id_i] : kNone;

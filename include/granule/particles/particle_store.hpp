@@ -50,6 +50,9 @@ class ParticleStore {
   std::size_t size() const { return x.size(); }
   std::size_t ghosts() const { return x.size() - owned_; }
 
+  /// Declares how many leading slots are real particles (used when restoring a checkpoint).
+  void set_owned(std::size_t n) { owned_ = n; }
+
   /// Appends a real particle; returns its slot. Must not be called while ghosts exist.
   std::size_t add(const Vec& pos, const Vec& vel, double r, double m, std::uint32_t mat,
                   std::uint32_t grp, std::uint64_t pid) {

@@ -1,10 +1,13 @@
 #pragma once
 // No cohesion.
+#include <string>
+
 #include "granule/contact/geometry.hpp"
 
 namespace granule::contact {
 
 struct NoCohesion {
+  static std::string signature() { return "NoCohesion"; }
   struct Params {};
   static Params make(const PairMaterial&, double /*thickness*/) { return {}; }
   template <class D>

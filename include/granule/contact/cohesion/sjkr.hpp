@@ -11,11 +11,14 @@
 #include <cmath>
 #include <numbers>
 
+#include <string>
+
 #include "granule/contact/geometry.hpp"
 
 namespace granule::contact {
 
 struct SjkrCohesion {
+  static std::string signature() { return "SjkrCohesion"; }
   struct Params {
     double k_c = 0.0;        ///< [J/m^3]
     double thickness = 1.0;  ///< 2D out-of-plane thickness [m]

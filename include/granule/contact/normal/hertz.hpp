@@ -11,11 +11,14 @@
 #include <cmath>
 #include <numbers>
 
+#include <string>
+
 #include "granule/contact/geometry.hpp"
 
 namespace granule::contact {
 
 struct HertzNormal {
+  static std::string signature() { return "HertzNormal"; }
   struct Params {
     double E_eff = 0.0;        ///< [Pa]
     double damping = 0.0;      ///< -2 sqrt(5/6) beta  (>= 0) [-]

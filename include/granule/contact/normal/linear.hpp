@@ -13,11 +13,14 @@
 #include <cmath>
 #include <numbers>
 
+#include <string>
+
 #include "granule/contact/geometry.hpp"
 
 namespace granule::contact {
 
 struct LinearNormal {
+  static std::string signature() { return "LinearNormal"; }
   struct Params {
     double k_n = 0.0;   ///< [N/m]
     double xi = 0.0;    ///< damping ratio [-]

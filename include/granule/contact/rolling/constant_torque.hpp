@@ -7,11 +7,14 @@
 // I_r |w_r| / dt, with the rolling inertia I_r of Ai et al. 2011 eq. 14.
 #include <cmath>
 
+#include <string>
+
 #include "granule/contact/geometry.hpp"
 
 namespace granule::contact {
 
 struct ConstantTorqueRolling {
+  static std::string signature() { return "ConstantTorqueRolling"; }
   struct Params {
     double mu_r = 0.0;  ///< [-]
   };

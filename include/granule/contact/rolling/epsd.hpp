@@ -11,12 +11,15 @@
 // rolling inertia 1/I_r = 1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2) (Ai et al. 2011 eq. 14).
 #include <cmath>
 
+#include <string>
+
 #include "granule/contact/geometry.hpp"
 #include "granule/contact/tangential/history.hpp"
 
 namespace granule::contact {
 
 struct EpsdRolling {
+  static std::string signature() { return "EpsdRolling"; }
   struct Params {
     double mu_r = 0.0;    ///< [-]
     double factor = 2.25; ///< c in k_r = c k_n mu_r^2 R*^2 [-]

@@ -1,10 +1,13 @@
 #pragma once
 // No rolling resistance: no torque beyond the lever arm of the tangential force, no history.
+#include <string>
+
 #include "granule/contact/geometry.hpp"
 
 namespace granule::contact {
 
 struct NoRolling {
+  static std::string signature() { return "NoRolling"; }
   struct Params {};
   template <class D>
   using State = NoState<D>;

@@ -8,12 +8,15 @@
 // There is no tangential dashpot: dissipation comes from sliding and from the normal law.
 #include <cmath>
 
+#include <string>
+
 #include "granule/contact/geometry.hpp"
 #include "granule/contact/tangential/history.hpp"
 
 namespace granule::contact {
 
 struct IncrementalCoulombTangential {
+  static std::string signature() { return "IncrementalCoulombTangential"; }
   struct Params {
     double ratio = 0.5;  ///< k_t / k_n [-]
     double mu_s = 0.0;   ///< [-]

@@ -1,10 +1,13 @@
 #pragma once
 // Frictionless contacts: no tangential force and no per-contact history.
+#include <string>
+
 #include "granule/contact/geometry.hpp"
 
 namespace granule::contact {
 
 struct NoTangential {
+  static std::string signature() { return "NoTangential"; }
   struct Params {};
   template <class D>
   using State = NoState<D>;

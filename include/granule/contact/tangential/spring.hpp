@@ -19,6 +19,7 @@
 // HistoryRotation chooses whether projection keeps the spring length (see history.hpp).
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include "granule/contact/geometry.hpp"
 #include "granule/contact/tangential/history.hpp"
@@ -29,6 +30,7 @@ enum class Truncation { Total, SpringOnly };
 enum class HistoryRotation { ProjectKeepLength, Project };
 
 struct MindlinStiffness {
+  static std::string signature() { return "Mindlin"; }
   struct Params {
     double G_eff = 0.0;    ///< [Pa]
     double damping = 0.0;  ///< -2 sqrt(5/6) beta [-]
@@ -47,6 +49,7 @@ struct MindlinStiffness {
 };
 
 struct LinearStiffness {
+  static std::string signature() { return "Linear"; }
   struct Params {
     double k_t = 0.0;  ///< [N/m]
     double xi = 0.0;   ///< damping ratio [-]
@@ -66,6 +69,11 @@ struct LinearStiffness {
 template <class Stiffness, Truncation Trunc = Truncation::Total,
           HistoryRotation Rot = HistoryRotation::ProjectKeepLength>
 struct SpringTangential {
+  static std::string signature() {
+    return "SpringTangential<" + Stiffness::signature() +
+           (Trunc == Truncation::Total ? ",Total" : ",SpringOnly") +
+           (Rot == HistoryRotation::ProjectKeepLength ? ",KeepLength>" : ",Project>");
+  }
   struct Params {
     typename Stiffness::Params stiffness;
     double mu_s = 0.0;  ///< [-]

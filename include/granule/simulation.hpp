@@ -1,0 +1,974 @@
+#pragma once
+// Simulation: particles, materials, walls on bodies, a contact model and a neighbour search,
+// advanced in time by velocity Verlet (translation and rotation).
+//
+//   Simulation<Dim3, contact::HertzMindlin, neighbours::VerletList> sim(config);
+//
+// One step (Allen & Tildesley 1987, velocity Verlet -- the default Integrator policy; the force
+// uses the half-step velocity as in LAMMPS/LIGGGHTS nve/sphere):
+//   v += dt/2 F/m,  omega += dt/2 T/I,  x += dt v        (prescribed particles: x += dt v(t+dt/2))
+//   bodies move; the neighbour list is rebuilt if any particle or wall moved more than skin/2
+//   F, T <- gravity + contacts (pair loop in three colours of cell layers, then walls)
+//   v += dt/2 F/m,  omega += dt/2 T/I
+// Determinism: every particle's force is summed in an order fixed by the list alone (its row,
+// then rows of earlier colours, in row order), so results are bitwise identical for any number
+// of threads. See docs/architecture.md.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "granule/analysis/frame.hpp"
+#include "granule/boundaries/body.hpp"
+#include "granule/boundaries/wall.hpp"
+#include "granule/contact/model.hpp"
+#include "granule/core/dimension.hpp"
+#include "granule/core/error.hpp"
+#include "granule/integrators/symplectic_euler.hpp"
+#include "granule/integrators/velocity_verlet.hpp"
+#include "granule/materials/material_table.hpp"
+#include "granule/materials/time_step.hpp"
+#include "granule/neighbours/domain.hpp"
+#include "granule/neighbours/pair_list.hpp"
+#include "granule/neighbours/policies.hpp"
+#include "granule/particles/particle_store.hpp"
+
+namespace granule {
+
+template <class D>
+struct SimulationConfig {
+  using Vec = typename D::Vec;
+  Domain<D> domain;                 ///< simulation box (periodic flags per axis)
+  Vec gravity = Vec::Zero();        ///< [m/s^2]
+  double dt = 0.0;                  ///< time step [s]
+  double skin = -1.0;               ///< Verlet skin [m]; < 0: 0.1 x largest diameter (VerletList)
+  double thickness = 1.0;           ///< out-of-plane thickness of 2D disks [m]
+  /// The step may be at most this fraction of the critical time (Rayleigh time for Hertz
+  /// contacts, collision time for linear ones); see docs/physics.md, "time step".
+  double time_step_safety = 0.2;
+  bool allow_large_time_step = false;  ///< explicit override of the time-step check
+  /// An overlap above this fraction of the smaller radius stops the run as unstable.
+  double max_overlap_ratio = 0.5;
+};
+
+template <class D, class Model, class Search = neighbours::VerletList,
+          class Integrator = integrators::VelocityVerlet>
+class Simulation {
+ public:
+  using Vec = typename D::Vec;
+  using AngVec = typename D::AngVec;
+  using State = typename Model::template State<D>;
+  using Params = typename Model::Params;
+  using ContactModelType = Model;
+  using SearchPolicy = Search;
+  using IntegratorPolicy = Integrator;
+  using Dimension = D;
+  static constexpr bool kHasState = Model::template has_state<D>;
+  using List = neighbours::PairList<D, State, kHasState>;
+  /// Below this many particles every loop runs on one thread: a parallel region costs more
+  /// than it saves, and badly so when cores are oversubscribed.
+  static constexpr std::size_t kParallelMinParticles = 2048;
+
+  explicit Simulation(const SimulationConfig<D>& config) : config_(config) {
+    config_.domain.validate();
+    const std::string where = "SimulationConfig";
+    require(config_.dt > 0.0 && std::isfinite(config_.dt), where, "dt", config_.dt, "(0, inf) s");
+    require(config_.thickness > 0.0 && std::isfinite(config_.thickness), where, "thickness",
+            config_.thickness, "(0, inf) m");
+    require(config_.time_step_safety > 0.0 && config_.time_step_safety <= 1.0, where,
+            "time_step_safety", config_.time_step_safety, "(0, 1]");
+    require(config_.max_overlap_ratio > 0.0 && config_.max_overlap_ratio <= 1.0, where,
+            "max_overlap_ratio", config_.max_overlap_ratio, "(0, 1]");
+    for (int k = 0; k < D::dim; ++k)
+      require(std::isfinite(config_.gravity[k]), where, "gravity[" + std::to_string(k) + "]",
+              config_.gravity[k], "finite");
+    if (Search::rebuild_every_step) {
+      require(config_.skin <= 0.0, where, "skin", config_.skin,
+              std::string("(-inf, 0] for ") + Search::name + " (rebuilt every step)");
+    }
+    bodies_.push_back(Body<D>{});
+    bodies_[0].name = "world";
+  }
+
+  // ---- set-up --------------------------------------------------------------------------------
+
+  /// Adds a particle material; returns its index.
+  std::uint32_t add_material(const Material& m) { return add_material_impl(m, false); }
+  /// Adds a wall material (density may be zero); returns its index.
+  std::uint32_t add_wall_material(const Material& m) { return add_material_impl(m, true); }
+
+  /// Adds a particle and returns its stable id.
+  std::uint64_t add_particle(const Vec& x, double radius, std::uint32_t material,
+                             const Vec& v = Vec::Zero(), std::uint32_t group = 0) {
+    const std::string where = "Simulation::add_particle";
+    require(radius > 0.0 && std::isfinite(radius), where, "radius", radius, "(0, inf) m");
+    require(material < materials_.size(), where, "material", material,
+            "[0, " + std::to_string(materials_.size()) + ") (add_material first)");
+    require(!wall_material_[material], where, "material", material, "a particle material (this one is a wall material)");
+    for (int k = 0; k < D::dim; ++k) {
+      require(std::isfinite(x[k]), where, "x[" + std::to_string(k) + "]", x[k], "finite");
+      require(std::isfinite(v[k]), where, "v[" + std::to_string(k) + "]", v[k], "finite");
+      if (!config_.domain.periodic[k])
+        require(x[k] >= config_.domain.lo[k] && x[k] <= config_.domain.hi[k], where,
+                "x[" + std::to_string(k) + "]", x[k],
+                "[" + detail::to_text(config_.domain.lo[k]) + ", " + detail::to_text(config_.domain.hi[k]) +
+                    "] m (inside the non-periodic domain)");
+    }
+    particles_.clear_ghosts();
+    const double m = materials_[material].density * D::volume(radius, config_.thickness);
+    const std::uint64_t id = next_id_++;
+    const std::size_t slot = particles_.add(x, v, radius, m, material, group, id);
+    apply_group_motion(slot);
+    list_valid_ = false;
+    return id;
+  }
+
+  /// Adds a body with prescribed kinematics; returns its index (0 is the fixed world).
+  std::uint32_t add_body(const Body<D>& b) {
+    bodies_.push_back(b);
+    bodies_.back().set_velocities(time_);
+    list_valid_ = false;
+    return static_cast<std::uint32_t>(bodies_.size() - 1);
+  }
+
+  /// Adds a wall of the given shape and (wall) material on a body; returns its index.
+  template <class Shape>
+  std::uint32_t add_wall(const Shape& shape, std::uint32_t material, std::uint32_t body = 0) {
+    require(material < materials_.size(), "Simulation::add_wall", "material", material,
+            "[0, " + std::to_string(materials_.size()) + ")");
+    require(body < bodies_.size(), "Simulation::add_wall", "body", body,
+            "[0, " + std::to_string(bodies_.size()) + ")");
+    walls_.push_back(Wall<D>{typename WallShapes<D>::type(shape), material, body});
+    list_valid_ = false;
+    return static_cast<std::uint32_t>(walls_.size() - 1);
+  }
+
+  /// Particles of `group` never move (e.g. the rough frozen floor of paper 001).
+  void freeze_group(std::uint32_t group) {
+    group_mode_resize(group);
+    group_motion_[group] = Motion::Frozen;
+    group_velocity_[group] = nullptr;
+    for (std::size_t i = 0; i < particles_.owned(); ++i)
+      if (particles_.group[i] == group) apply_group_motion(i);
+  }
+
+  /// Particles of `group` move with velocity v(t) whatever the forces (virtual piston, shaker).
+  void prescribe_group_velocity(std::uint32_t group, std::function<Vec(double)> velocity) {
+    require(static_cast<bool>(velocity), "Simulation::prescribe_group_velocity", "velocity", 0.0,
+            "a callable of time");
+    group_mode_resize(group);
+    group_motion_[group] = Motion::Prescribed;
+    group_velocity_[group] = std::move(velocity);
+    for (std::size_t i = 0; i < particles_.owned(); ++i)
+      if (particles_.group[i] == group) apply_group_motion(i);
+  }
+
+  /// Particles of `group` move freely again.
+  void release_group(std::uint32_t group) {
+    group_mode_resize(group);
+    group_motion_[group] = Motion::Free;
+    group_velocity_[group] = nullptr;
+    for (std::size_t i = 0; i < particles_.owned(); ++i)
+      if (particles_.group[i] == group) apply_group_motion(i);
+  }
+
+  /// Moves particles to another group (and motion mode) by predicate on (slot).
+  template <class Pred>
+  void assign_group(std::uint32_t group, Pred&& pred) {
+    group_mode_resize(group);
+    for (std::size_t i = 0; i < particles_.owned(); ++i)
+      if (pred(i)) {
+        particles_.group[i] = group;
+        apply_group_motion(i);
+      }
+  }
+
+  /// Removes the particles for which pred(slot) is true (e.g. above a fill height).
+  template <class Pred>
+  std::size_t remove_particles(Pred&& pred) {
+    particles_.clear_ghosts();
+    std::vector<bool> keep(particles_.owned());
+    std::size_t removed = 0;
+    for (std::size_t i = 0; i < particles_.owned(); ++i) {
+      keep[i] = !pred(i);
+      removed += !keep[i];
+    }
+    particles_.remove_if_not(keep);
+    list_valid_ = false;
+    return removed;
+  }
+
+  /// Registers f(sim) to run after every n-th step (and after step 0 when at_start).
+  void every(std::uint64_t n, std::function<void(Simulation&)> f, bool needs_contacts = false) {
+    require(n > 0, "Simulation::every", "n", static_cast<double>(n), "[1, inf)");
+    observers_.push_back({n, std::move(f), needs_contacts});
+  }
+
+  // ---- running -------------------------------------------------------------------------------
+
+  /// Advances `n` steps.
+  void run(std::uint64_t n) {
+    for (std::uint64_t s = 0; s < n; ++s) step();
+  }
+
+  /// Advances until time >= t_end.
+  void run_until(double t_end) {
+    while (time_ < t_end - 0.5 * config_.dt) step();
+  }
+
+  /// One velocity-Verlet step.
+  void step() {
+    if (!list_valid_ || !initialised_) initialise();
+    const double dt = config_.dt;
+    const double half = 0.5 * dt;
+    const double kick1 = Integrator::first_kick * dt;
+    const double kick2 = Integrator::second_kick * dt;
+    const std::size_t n = particles_.owned();
+    update_group_velocities(time_ + half);
+    auto& p = particles_;
+#pragma omp parallel for schedule(static) if (parallel_)
+    for (std::size_t i = 0; i < n; ++i) {
+      switch (p.motion[i]) {
+        case Motion::Free:
+          p.v[i] += kick1 * p.inv_mass[i] * p.f[i];
+          p.omega[i] += (kick1 * p.inv_inertia[i]) * p.torque[i];
+          p.x[i] += dt * p.v[i];
+          break;
+        case Motion::Prescribed:
+          p.v[i] = group_v_now_[p.group[i]];
+          p.x[i] += dt * p.v[i];
+          break;
+        case Motion::Frozen:
+          break;
+      }
+    }
+    for (auto& b : bodies_) b.advance(time_, dt);
+    time_ += dt;
+    ++step_;
+    const bool record = contacts_wanted(step_);
+    if (needs_rebuild()) {
+      rebuild();
+    } else {
+      refresh_ghosts();
+    }
+    compute_forces(record);
+    update_group_velocities(time_);
+#pragma omp parallel for schedule(static) if (parallel_)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (p.motion[i] == Motion::Free) {
+        p.v[i] += kick2 * p.inv_mass[i] * p.f[i];
+        p.omega[i] += (kick2 * p.inv_inertia[i]) * p.torque[i];
+      } else if (p.motion[i] == Motion::Prescribed) {
+        p.v[i] = group_v_now_[p.group[i]];
+      }
+    }
+    for (auto& b : bodies_) {
+      // Work of the drive against the particles over this step (rectangle rule at step end).
+      b.work -= (b.force.dot(b.current_velocity) + ang_dot(b.torque, b.current_angular_velocity)) * dt;
+    }
+    for (auto& o : observers_)
+      if (step_ % o.every == 0) o.f(*this);
+  }
+
+  // ---- state ---------------------------------------------------------------------------------
+
+  double time() const { return time_; }
+  double dt() const { return config_.dt; }
+  std::uint64_t step_count() const { return step_; }
+  const SimulationConfig<D>& config() const { return config_; }
+  ParticleStore<D>& particles() { return particles_; }
+  const ParticleStore<D>& particles() const { return particles_; }
+  const MaterialTable& materials() const { return materials_; }
+  Body<D>& body(std::uint32_t b) { return bodies_.at(b); }
+  const Body<D>& body(std::uint32_t b) const { return bodies_.at(b); }
+  std::size_t body_count() const { return bodies_.size(); }
+  const std::vector<Wall<D>>& walls() const { return walls_; }
+  const List& neighbour_list() const { return list_; }
+  /// Number of touching pairs and particle-wall contacts at the last force evaluation.
+  std::size_t contact_count() const { return contacts_; }
+  /// Contacts recorded at the last force evaluation that recorded them (see every()).
+  const std::vector<analysis::ContactRecord<D>>& recorded_contacts() const { return records_; }
+
+  /// Current slot of the particle with stable id `id` (throws if absent).
+  std::size_t index_of(std::uint64_t id) const {
+    for (std::size_t i = 0; i < particles_.owned(); ++i)
+      if (particles_.id[i] == id) return i;
+    throw InvalidParameter("Simulation::index_of: id = " + std::to_string(id) + " is not a particle");
+  }
+
+  /// Sets the time-step; the stability check runs again before the next step.
+  void set_dt(double dt) {
+    require(dt > 0.0 && std::isfinite(dt), "Simulation::set_dt", "dt", dt, "(0, inf) s");
+    config_.dt = dt;
+    initialised_ = false;
+  }
+
+  /// Makes the next force evaluation record its contacts (frame() then includes them).
+  void request_contacts() { record_next_ = true; }
+
+  /// Translational + rotational kinetic energy of the real particles [J].
+  double kinetic_energy() const {
+    double e = 0.0;
+    for (std::size_t i = 0; i < particles_.owned(); ++i) {
+      const double m = particles_.mass[i];
+      const double inertia = D::inertia_factor * m * particles_.radius[i] * particles_.radius[i];
+      e += 0.5 * m * particles_.v[i].squaredNorm() + 0.5 * inertia * D::squared_norm(particles_.omega[i]);
+    }
+    return e;
+  }
+
+  /// Gravitational potential energy -sum m g . x [J] (zero at the origin).
+  double gravitational_energy() const {
+    double e = 0.0;
+    for (std::size_t i = 0; i < particles_.owned(); ++i) e -= particles_.mass[i] * config_.gravity.dot(particles_.x[i]);
+    return e;
+  }
+
+  /// Elastic energy stored in all contacts (normal, tangential and rolling springs) [J].
+  double elastic_energy() {
+    if (!initialised_ || !list_valid_) initialise();
+    double e = 0.0;
+    for_each_contact_geometry([&](const contact::ContactGeometry<D>& g, const Params& prm, const State& s,
+                                  std::size_t, std::uint32_t, std::uint32_t) {
+      e += Model::stored_energy(prm, g, s);
+    });
+    return e;
+  }
+
+  /// Critical time of the scene [s]: the smallest Rayleigh time (Hertz laws) or linear collision
+  /// time (linear laws) over the particles present.
+  double critical_time_step() const {
+    double tc = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < particles_.owned(); ++i) {
+      const Material& m = materials_[particles_.material[i]];
+      const double r = particles_.radius[i];
+      if constexpr (Model::NormalLaw::hertzian) {
+        tc = std::min(tc, rayleigh_time(r, m.density, m.shear_modulus(), m.poisson_ratio));
+      } else {
+        for (std::uint32_t b = 0; b < materials_.size(); ++b) {
+          const PairMaterial& pm = materials_.pair(particles_.material[i], b);
+          if (pm.k_n_linear <= 0.0) continue;
+          // Two equal particles: m* = m/2; a wall: m* = m. The first is the stricter.
+          tc = std::min(tc, linear_collision_time(pm.k_n_linear, 0.5 * particles_.mass[i], pm.restitution));
+        }
+      }
+    }
+    return tc;
+  }
+
+  /// Largest time step the check accepts [s].
+  double suggested_time_step() const { return config_.time_step_safety * critical_time_step(); }
+
+  /// A self-contained snapshot for analysis and output (contacts only if they were recorded at
+  /// the current step: call request_contacts() before the step, or register the observer with
+  /// needs_contacts = true).
+  analysis::Frame<D> frame() const {
+    analysis::Frame<D> fr;
+    const std::size_t n = particles_.owned();
+    fr.time = time_;
+    fr.thickness = config_.thickness;
+    fr.x.assign(particles_.x.begin(), particles_.x.begin() + n);
+    fr.v.assign(particles_.v.begin(), particles_.v.begin() + n);
+    fr.omega.assign(particles_.omega.begin(), particles_.omega.begin() + n);
+    fr.radius.assign(particles_.radius.begin(), particles_.radius.begin() + n);
+    fr.mass.assign(particles_.mass.begin(), particles_.mass.begin() + n);
+    fr.id.assign(particles_.id.begin(), particles_.id.begin() + n);
+    fr.group.assign(particles_.group.begin(), particles_.group.begin() + n);
+    if (records_step_ == step_) fr.contacts = records_;
+    fr.box_lo = config_.domain.lo;
+    fr.box_hi = config_.domain.hi;
+    fr.periodic = config_.domain.periodic;
+    return fr;
+  }
+
+  /// Memory held by particles, list and history [bytes].
+  std::size_t memory_bytes() const {
+    const auto& p = particles_;
+    const std::size_t per = 5 * sizeof(Vec) + 2 * sizeof(AngVec) + 4 * sizeof(double) + 2 * 4 + 8 + 1 +
+                            sizeof(typename ParticleStore<D>::Image);
+    return p.x.capacity() * per + list_.memory_bytes();
+  }
+
+  /// Writes the dynamic state (particles, ghosts, neighbour list with history, bodies, time) to
+  /// `w`. The scene's static set-up (materials, walls, group motions, observers) is not stored:
+  /// the restarting program builds the same scene and then loads the state (io/checkpoint.hpp).
+  template <class W>
+  void save_state(W& w) {
+    if (!initialised_ || !list_valid_) initialise();
+    const auto& p = particles_;
+    w.template pod<double>(time_);
+    w.template pod<std::uint64_t>(step_);
+    w.template pod<std::uint64_t>(next_id_);
+    w.template pod<double>(config_.dt);
+    w.template pod<double>(skin_used_);
+    w.template pod<std::uint64_t>(p.owned());
+    w.vec(p.x); w.vec(p.v); w.vec(p.f); w.vec(p.omega); w.vec(p.torque); w.vec(p.radius);
+    w.vec(p.mass); w.vec(p.inv_mass); w.vec(p.inv_inertia); w.vec(p.material); w.vec(p.group);
+    w.vec(p.id); w.vec(p.motion); w.vec(p.image); w.vec(p.ghost_owner); w.vec(p.ghost_shift);
+    list_.save(w);
+    w.template pod<std::uint64_t>(bodies_.size());
+    for (const auto& b : bodies_) {
+      w.template pod<typename D::Mat>(b.pose.rotation());
+      w.template pod<Vec>(b.pose.translation());
+      w.template pod<Vec>(b.force);
+      w.template pod<AngVec>(b.torque);
+      w.template pod<double>(b.work);
+      w.template pod<Vec>(b.displacement_since_build);
+      w.template pod<double>(b.rotation_since_build);
+    }
+    w.template pod<std::uint64_t>(materials_.size());
+    w.template pod<std::uint64_t>(walls_.size());
+    w.vec(group_motion_);
+  }
+
+  /// Restores what save_state wrote into a simulation set up with the same scene.
+  template <class R>
+  void load_state(R& r) {
+    auto& p = particles_;
+    time_ = r.template pod<double>();
+    step_ = r.template pod<std::uint64_t>();
+    next_id_ = r.template pod<std::uint64_t>();
+    const double dt = r.template pod<double>();
+    if (dt != config_.dt)
+      r.fail("time step " + detail::to_text(dt) + " s differs from the scene's " + detail::to_text(config_.dt) + " s");
+    skin_used_ = r.template pod<double>();
+    const auto owned = r.template pod<std::uint64_t>();
+    p.clear_ghosts();
+    r.vec(p.x); r.vec(p.v); r.vec(p.f); r.vec(p.omega); r.vec(p.torque); r.vec(p.radius);
+    r.vec(p.mass); r.vec(p.inv_mass); r.vec(p.inv_inertia); r.vec(p.material); r.vec(p.group);
+    r.vec(p.id); r.vec(p.motion); r.vec(p.image); r.vec(p.ghost_owner); r.vec(p.ghost_shift);
+    p.set_owned(static_cast<std::size_t>(owned));
+    list_.load(r);
+    const auto nb = r.template pod<std::uint64_t>();
+    if (nb != bodies_.size())
+      r.fail("it has " + std::to_string(nb) + " bodies, the scene " + std::to_string(bodies_.size()));
+    for (auto& b : bodies_) {
+      const auto rot = r.template pod<typename D::Mat>();
+      const auto t = r.template pod<Vec>();
+      b.pose = geometry::Pose<D>(rot, t);
+      b.force = r.template pod<Vec>();
+      b.torque = r.template pod<AngVec>();
+      b.work = r.template pod<double>();
+      b.displacement_since_build = r.template pod<Vec>();
+      b.rotation_since_build = r.template pod<double>();
+      b.set_velocities(time_);
+    }
+    const auto nm = r.template pod<std::uint64_t>();
+    const auto nw = r.template pod<std::uint64_t>();
+    if (nm != materials_.size() || nw != walls_.size())
+      r.fail("it has " + std::to_string(nm) + " materials and " + std::to_string(nw) +
+             " walls, the scene " + std::to_string(materials_.size()) + " and " + std::to_string(walls_.size()));
+    std::vector<Motion> modes;
+    r.vec(modes);
+    for (std::size_t g = 0; g < modes.size(); ++g) {
+      group_mode_resize(static_cast<std::uint32_t>(g));
+      if (modes[g] != group_motion_[g])
+        r.fail("group " + std::to_string(g) + " has a different motion mode than in the scene");
+    }
+    wall_touched_.assign(list_.wall.size(), 0);
+    parallel_ = particles_.owned() >= kParallelMinParticles;
+    update_group_velocities(time_);
+    list_valid_ = true;
+    initialised_ = true;
+  }
+
+  /// Rebuilds the neighbour list now (normally automatic).
+  void rebuild() {
+    const double skin = effective_skin();
+    list_.template rebuild<Search>(
+        particles_, config_.domain, skin, [](State& s) { Model::reverse(s); },
+        [&](std::size_t, const Vec& x, double reach, auto&& emit) {
+          for (std::uint32_t w = 0; w < walls_.size(); ++w) {
+            walls_[w].for_each_contact(bodies_[walls_[w].body], x, reach,
+                                       [&](const geometry::SurfacePoint<D>& sp) { emit(w, sp.feature); });
+          }
+        });
+    for (auto& b : bodies_) {
+      b.displacement_since_build.setZero();
+      b.rotation_since_build = 0.0;
+    }
+    wall_touched_.assign(list_.wall.size(), 0);
+    parallel_ = particles_.owned() >= kParallelMinParticles;
+    skin_used_ = skin;
+    list_valid_ = true;
+    check_domain();
+  }
+
+ private:
+  struct Observer {
+    std::uint64_t every;
+    std::function<void(Simulation&)> f;
+    bool needs_contacts;
+  };
+
+  // Per-layer accumulators of one force evaluation (summed in layer order afterwards).
+  struct LayerAccumulator {
+    std::size_t contacts = 0;
+    std::size_t bad_row = std::numeric_limits<std::size_t>::max();
+    std::size_t bad_partner = 0;
+    double bad_overlap = 0.0;
+    bool bad_wall = false;
+    std::size_t missing_wall_features = 0;
+    std::vector<Vec> body_force;
+    std::vector<AngVec> body_torque;
+    std::vector<analysis::ContactRecord<D>> records;
+  };
+
+  std::uint32_t add_material_impl(const Material& m, bool is_wall) {
+    const std::uint32_t idx = materials_.add(m, is_wall);
+    wall_material_.push_back(is_wall);
+    refresh_params();
+    return idx;
+  }
+
+  void refresh_params() {
+    const std::size_t nm = materials_.size();
+    params_.resize(nm * nm);
+    for (std::uint32_t a = 0; a < nm; ++a)
+      for (std::uint32_t b = 0; b < nm; ++b) params_[a * nm + b] = Model::make(materials_.pair(a, b), config_.thickness);
+  }
+
+  void group_mode_resize(std::uint32_t group) {
+    if (group >= group_motion_.size()) {
+      group_motion_.resize(group + 1, Motion::Free);
+      group_velocity_.resize(group + 1);
+      group_v_now_.resize(group + 1, Vec::Zero());
+    }
+  }
+
+  void apply_group_motion(std::size_t i) {
+    const std::uint32_t g = particles_.group[i];
+    const Motion m = g < group_motion_.size() ? group_motion_[g] : Motion::Free;
+    particles_.set_motion(i, m);
+    if (m == Motion::Frozen) {
+      particles_.v[i].setZero();
+      particles_.omega[i] = D::zero_ang();
+    }
+    if (m == Motion::Prescribed) {
+      particles_.v[i] = group_velocity_[g](time_);
+      particles_.omega[i] = D::zero_ang();
+    }
+  }
+
+  void update_group_velocities(double t) {
+    for (std::size_t g = 0; g < group_velocity_.size(); ++g)
+      if (group_velocity_[g]) group_v_now_[g] = group_velocity_[g](t);
+  }
+
+  static double ang_dot(const AngVec& a, const AngVec& b) {
+    if constexpr (D::dim == 2) {
+      return a * b;
+    } else {
+      return a.dot(b);
+    }
+  }
+
+  double effective_skin() const {
+    if (Search::rebuild_every_step) return 0.0;
+    if (config_.skin >= 0.0) return config_.skin;
+    double r_max = 0.0;
+    for (std::size_t i = 0; i < particles_.owned(); ++i) r_max = std::max(r_max, particles_.radius[i]);
+    return 0.2 * r_max;  // 0.1 x the largest diameter
+  }
+
+  void initialise() {
+    if (!initialised_) check_time_step();
+    rebuild();
+    update_group_velocities(time_);
+    for (auto& b : bodies_) b.set_velocities(time_);
+    compute_forces(contacts_wanted(step_) || record_next_);
+    initialised_ = true;
+  }
+
+  void check_time_step() const {
+    if (config_.allow_large_time_step || particles_.owned() == 0) return;
+    const double tc = critical_time_step();
+    if (!std::isfinite(tc)) return;
+    const double limit = config_.time_step_safety * tc;
+    if (config_.dt > limit) {
+      std::ostringstream s;
+      s.precision(6);
+      s << "SimulationConfig: dt = " << config_.dt << " s is outside the valid range (0, " << limit
+        << "] s: it exceeds time_step_safety (" << config_.time_step_safety << ") x the critical time "
+        << tc << " s (" << (Model::NormalLaw::hertzian ? "Rayleigh time" : "linear collision time")
+        << " of the smallest particle). Reduce dt, or set allow_large_time_step = true to override.";
+      throw InvalidParameter(s.str());
+    }
+  }
+
+  bool contacts_wanted(std::uint64_t step) const {
+    if (record_next_) return true;
+    for (const auto& o : observers_)
+      if (o.needs_contacts && step % o.every == 0) return true;
+    return false;
+  }
+
+  bool needs_rebuild() const {
+    if (Search::rebuild_every_step) return true;
+    const double half = 0.5 * skin_used_;
+    for (const auto& b : bodies_) {
+      if (!b.moving()) continue;
+      double moved = b.displacement_since_build.norm();
+      if (b.rotation_since_build > 0.0) {
+        double ext = 0.0;
+        for (const auto& w : walls_)
+          if (&bodies_[w.body] == &b) ext = std::max(ext, w.extent());
+        moved += b.rotation_since_build * ext;
+      }
+      if (moved > half) return true;
+    }
+    const std::size_t n = particles_.owned();
+    const double lim2 = half * half;
+    int over = 0;
+#pragma omp parallel for schedule(static) reduction(| : over) if (parallel_)
+    for (std::size_t i = 0; i < n; ++i)
+      if ((particles_.x[i] - list_.x_at_build[i]).squaredNorm() > lim2) over |= 1;
+    return over != 0;
+  }
+
+  void refresh_ghosts() {
+    auto& p = particles_;
+    const std::size_t n = p.owned();
+    const Vec L = config_.domain.length();
+    for (std::size_t g = 0; g < p.ghosts(); ++g) {
+      const std::uint32_t o = p.ghost_owner[g];
+      p.x[n + g] = p.x[o] + (p.ghost_shift[g].template cast<double>().array() * L.array()).matrix();
+      p.v[n + g] = p.v[o];
+      p.omega[n + g] = p.omega[o];
+    }
+  }
+
+  void check_domain() const {
+    for (std::size_t i = 0; i < particles_.owned(); ++i) {
+      if (!particles_.x[i].allFinite()) throw_instability(i, "its position is not finite");
+      if (!config_.domain.contains(particles_.x[i])) throw_instability(i, "it left the non-periodic domain");
+    }
+  }
+
+  [[noreturn]] void throw_instability(std::size_t i, const std::string& why) const {
+    std::ostringstream s;
+    s.precision(9);
+    s << "Simulation unstable at step " << step_ << " (t = " << time_ << " s): particle id "
+      << particles_.id[i] << " at (";
+    for (int k = 0; k < D::dim; ++k) s << (k ? ", " : "") << particles_.x[i][k];
+    s << ") m: " << why << ". Reduce dt or check the set-up (overlaps, stiffness, walls).";
+    throw InstabilityError(s.str());
+  }
+
+  // Builds the contact geometry of pair (i, j); returns false if not touching.
+  bool pair_geometry(std::size_t i, std::size_t j, contact::ContactGeometry<D>& g) const {
+    const auto& p = particles_;
+    const Vec d = p.x[i] - p.x[j];
+    const double rs = p.radius[i] + p.radius[j];
+    const double d2 = d.squaredNorm();
+    if (d2 >= rs * rs) return false;
+    const double dist = std::sqrt(d2);
+    g.distance = dist;
+    g.n = dist > 0.0 ? Vec(d / dist) : Vec(Vec::Unit(D::dim - 1));
+    g.overlap = rs - dist;
+    g.r_i = p.radius[i];
+    g.r_j = p.radius[j];
+    g.arm_i = g.r_i - 0.5 * g.overlap;
+    g.arm_j = g.r_j - 0.5 * g.overlap;
+    g.r_eff = g.r_i * g.r_j / rs;
+    g.m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
+    g.v_rel = p.v[i] - p.v[j] - (g.arm_i * D::cross(p.omega[i], g.n) + g.arm_j * D::cross(p.omega[j], g.n));
+    g.vn = g.v_rel.dot(g.n);
+    g.vt = g.v_rel - g.vn * g.n;
+    g.omega_rel = p.omega[i] - p.omega[j];
+    if constexpr (Model::needs_rolling_inertia) {
+      const double k1 = D::inertia_factor + 1.0;
+      g.i_roll = 1.0 / (p.inv_mass[i] / (k1 * g.r_i * g.r_i) + p.inv_mass[j] / (k1 * g.r_j * g.r_j));
+    } else {
+      g.i_roll = 0.0;
+    }
+    g.dt = config_.dt;
+    return true;
+  }
+
+  // Builds the contact geometry of particle i against a wall surface point.
+  bool wall_geometry(std::size_t i, const geometry::SurfacePoint<D>& sp, const Body<D>& b,
+                     contact::ContactGeometry<D>& g) const {
+    const auto& p = particles_;
+    const double overlap = p.radius[i] - sp.distance;
+    if (overlap <= 0.0) return false;
+    g.n = sp.normal;
+    g.overlap = overlap;
+    g.distance = std::numeric_limits<double>::infinity();
+    g.r_i = p.radius[i];
+    g.r_j = std::numeric_limits<double>::infinity();
+    g.arm_i = sp.distance;  // centre to the contact point on the wall surface
+    g.arm_j = 0.0;
+    g.r_eff = g.r_i;
+    g.m_eff = p.mass[i];
+    const Vec vw = b.point_velocity(sp.point);
+    g.v_rel = p.v[i] - g.arm_i * D::cross(p.omega[i], g.n) - vw;
+    g.vn = g.v_rel.dot(g.n);
+    g.vt = g.v_rel - g.vn * g.n;
+    g.omega_rel = p.omega[i] - b.current_angular_velocity;
+    if constexpr (Model::needs_rolling_inertia) {
+      g.i_roll = (D::inertia_factor + 1.0) * p.mass[i] * g.r_i * g.r_i;
+    } else {
+      g.i_roll = 0.0;
+    }
+    g.dt = config_.dt;
+    return true;
+  }
+
+  const Params& pair_params(std::size_t i, std::size_t j) const {
+    return params_[particles_.material[i] * materials_.size() + particles_.material[j]];
+  }
+
+  // Visits every touching pair and wall contact with its geometry, without changing history.
+  template <class F>
+  void for_each_contact_geometry(F&& f) const {
+    const auto& p = particles_;
+    contact::ContactGeometry<D> g;
+    static const State kEmpty{};
+    for (std::size_t i = 0; i < p.owned(); ++i) {
+      for (std::uint32_t e = list_.row_begin[i]; e < list_.row_begin[i + 1]; ++e) {
+        const std::uint32_t j = list_.nbr[e];
+        if (!pair_geometry(i, j, g)) continue;
+        const State& s = kHasState ? list_.state[e] : kEmpty;
+        f(g, pair_params(i, j), s, i, j, 0u);
+      }
+      for (std::uint32_t e = list_.wall_begin[i]; e < list_.wall_begin[i + 1]; ++e) {
+        const auto we = list_.wall[e];
+        const Wall<D>& w = walls_[we.wall];
+        const Body<D>& b = bodies_[w.body];
+        w.for_each_contact(b, p.x[i], p.radius[i], [&](const geometry::SurfacePoint<D>& sp) {
+          if (sp.feature != we.feature || !wall_geometry(i, sp, b, g)) return;
+          const State& s = kHasState ? list_.wall_state[e] : kEmpty;
+          f(g, params_[p.material[i] * materials_.size() + w.material], s, i, we.wall, 1u);
+        });
+      }
+    }
+  }
+
+  void compute_forces(bool record) {
+    auto& p = particles_;
+    const std::size_t n = p.owned();
+    const std::size_t m = p.size();
+    const std::size_t nb = bodies_.size();
+#pragma omp parallel for schedule(static) if (parallel_)
+    for (std::size_t i = 0; i < m; ++i) {
+      p.f[i] = (i < n && p.motion[i] == Motion::Free) ? Vec(p.mass[i] * config_.gravity) : Vec(Vec::Zero());
+      p.torque[i] = D::zero_ang();
+    }
+    const std::size_t nl = list_.layers();
+    layer_acc_.resize(nl);
+    for (auto& a : layer_acc_) {
+      a.contacts = 0;
+      a.bad_row = std::numeric_limits<std::size_t>::max();
+      a.missing_wall_features = 0;
+      a.body_force.assign(nb, Vec::Zero());
+      a.body_torque.assign(nb, D::zero_ang());
+      a.records.clear();
+    }
+    const bool parallel = Search::uses_cells;
+    // Three colours: layers l and l + 3 never touch the same particle or ghost.
+    for (std::size_t colour = 0; colour < 3; ++colour) {
+      const std::size_t count = nl > colour ? (nl - colour + 2) / 3 : 0;
+#pragma omp parallel for schedule(dynamic, 1) if (parallel && parallel_)
+      for (std::size_t t = 0; t < count; ++t) {
+        const std::size_t l = colour + 3 * t;
+        if (record) {
+          process_layer<true>(l);
+        } else {
+          process_layer<false>(l);
+        }
+      }
+    }
+    // Ghost forces go back to their owners, in ghost order.
+    for (std::size_t g = 0; g < p.ghosts(); ++g) {
+      const std::uint32_t o = p.ghost_owner[g];
+      p.f[o] += p.f[n + g];
+      p.torque[o] += p.torque[n + g];
+    }
+    contacts_ = 0;
+    for (auto& b : bodies_) {
+      b.force.setZero();
+      b.torque = D::zero_ang();
+    }
+    std::size_t bad_layer = nl;
+    for (std::size_t l = 0; l < nl; ++l) {
+      const auto& a = layer_acc_[l];
+      contacts_ += a.contacts;
+      for (std::size_t b = 0; b < nb; ++b) {
+        bodies_[b].force += a.body_force[b];
+        bodies_[b].torque += a.body_torque[b];
+      }
+      if (a.bad_row != std::numeric_limits<std::size_t>::max() && bad_layer == nl) bad_layer = l;
+    }
+    if (record) {
+      records_.clear();
+      for (const auto& a : layer_acc_) records_.insert(records_.end(), a.records.begin(), a.records.end());
+      records_step_ = step_;
+      record_next_ = false;
+    }
+    if (bad_layer != nl) {
+      const auto& a = layer_acc_[bad_layer];
+      std::ostringstream s;
+      s.precision(6);
+      s << "overlap " << a.bad_overlap << " m with "
+        << (a.bad_wall ? "wall " + std::to_string(a.bad_partner)
+                       : "particle id " + std::to_string(p.id[a.bad_partner]))
+        << " exceeds max_overlap_ratio (" << config_.max_overlap_ratio << ") x the smaller radius";
+      throw_instability(a.bad_row, s.str());
+    }
+    std::size_t bad = std::numeric_limits<std::size_t>::max();
+#pragma omp parallel for schedule(static) reduction(min : bad) if (parallel_)
+    for (std::size_t i = 0; i < n; ++i)
+      if (!p.f[i].allFinite() || !D::all_finite(p.torque[i]) || !p.x[i].allFinite() || !p.v[i].allFinite())
+        bad = std::min(bad, i);
+    if (bad != std::numeric_limits<std::size_t>::max())
+      throw_instability(bad, "its force, torque, position or velocity is not finite");
+  }
+
+  template <bool Record>
+  void process_layer(std::size_t l) {
+    auto& p = particles_;
+    auto& acc = layer_acc_[l];
+    const std::size_t n = p.owned();
+    const std::size_t nm = materials_.size();
+    const double max_ratio = config_.max_overlap_ratio;
+    contact::ContactGeometry<D> g;
+    State scratch{};
+    for (std::size_t i = list_.layer_begin[l]; i < list_.layer_begin[l + 1]; ++i) {
+      Vec fi = Vec::Zero();
+      AngVec ti = D::zero_ang();
+      const Params* prow = &params_[p.material[i] * nm];
+      for (std::uint32_t e = list_.row_begin[i]; e < list_.row_begin[i + 1]; ++e) {
+        const std::uint32_t j = list_.nbr[e];
+        State& s = kHasState ? list_.state[e] : scratch;
+        if (!pair_geometry(i, j, g)) {
+          if constexpr (kHasState) s = State{};
+          continue;
+        }
+        if (g.overlap > max_ratio * std::min(g.r_i, g.r_j) && acc.bad_row == std::numeric_limits<std::size_t>::max()) {
+          acc.bad_row = i;
+          acc.bad_partner = j < n ? j : p.ghost_owner[j - n];
+          acc.bad_overlap = g.overlap;
+          acc.bad_wall = false;
+        }
+        const contact::ContactForce<D> cf = Model::evaluate(prow[p.material[j]], g, s);
+        fi += cf.force;
+        ti += cf.torque_i;
+        p.f[j] -= cf.force;
+        p.torque[j] += cf.torque_j;
+        ++acc.contacts;
+        if constexpr (Record) {
+          analysis::ContactRecord<D> r;
+          r.i = static_cast<std::uint32_t>(i);
+          r.j = static_cast<std::uint32_t>(j < n ? j : p.ghost_owner[j - n]);
+          r.normal = g.n;
+          r.branch = -g.distance * g.n;
+          r.contact_point = p.x[i] - g.arm_i * g.n;
+          r.overlap = g.overlap;
+          r.fn = cf.fn;
+          r.ft = cf.ft;
+          r.mu = materials_.pair(p.material[i], p.material[j]).mu_s;
+          acc.records.push_back(r);
+        }
+      }
+      for (std::uint32_t e = list_.wall_begin[i]; e < list_.wall_begin[i + 1]; ++e) {
+        const neighbours::WallEntry we = list_.wall[e];
+        // Several entries of one wall (features) are handled by the first of them.
+        if (e > list_.wall_begin[i] && list_.wall[e - 1].wall == we.wall) continue;
+        const Wall<D>& w = walls_[we.wall];
+        const Body<D>& b = bodies_[w.body];
+        const Params& prm = params_[p.material[i] * nm + w.material];
+        w.for_each_contact(b, p.x[i], p.radius[i], [&](const geometry::SurfacePoint<D>& sp) {
+          if (!wall_geometry(i, sp, b, g)) return;
+          // History slot of this feature among the row's entries for this wall.
+          std::uint32_t slot = std::numeric_limits<std::uint32_t>::max();
+          for (std::uint32_t k = e; k < list_.wall_begin[i + 1] && list_.wall[k].wall == we.wall; ++k)
+            if (list_.wall[k].feature == sp.feature) { slot = k; break; }
+          State tmp{};
+          State& s = (kHasState && slot != std::numeric_limits<std::uint32_t>::max()) ? list_.wall_state[slot] : tmp;
+          if (slot == std::numeric_limits<std::uint32_t>::max()) ++acc.missing_wall_features;
+          if (g.overlap > max_ratio * g.r_i && acc.bad_row == std::numeric_limits<std::size_t>::max()) {
+            acc.bad_row = i;
+            acc.bad_partner = we.wall;
+            acc.bad_overlap = g.overlap;
+            acc.bad_wall = true;
+          }
+          const contact::ContactForce<D> cf = Model::evaluate(prm, g, s);
+          fi += cf.force;
+          ti += cf.torque_i;
+          acc.body_force[w.body] -= cf.force;
+          const Vec arm = sp.point - b.pose.translation();
+          acc.body_torque[w.body] -= D::cross(arm, cf.force);
+          ++acc.contacts;
+          if (slot != std::numeric_limits<std::uint32_t>::max()) touched_mark(slot);
+          if constexpr (Record) {
+            analysis::ContactRecord<D> r;
+            r.i = static_cast<std::uint32_t>(i);
+            r.wall = we.wall;
+            r.normal = g.n;
+            r.branch = sp.point - p.x[i];
+            r.contact_point = sp.point;
+            r.overlap = g.overlap;
+            r.fn = cf.fn;
+            r.ft = cf.ft;
+            r.mu = materials_.pair(p.material[i], w.material).mu_s;
+            acc.records.push_back(r);
+          }
+        });
+        // Features of this wall not in contact this step lose their history.
+        if constexpr (kHasState) {
+          for (std::uint32_t k = e; k < list_.wall_begin[i + 1] && list_.wall[k].wall == we.wall; ++k) {
+            if (!touched_take(k)) list_.wall_state[k] = State{};
+          }
+        }
+      }
+      p.f[i] += fi;
+      p.torque[i] += ti;
+    }
+  }
+
+  // Touch marks for wall history entries (one bit per entry, owned by the entry's row).
+  void touched_mark(std::uint32_t k) { wall_touched_[k] = 1; }
+  bool touched_take(std::uint32_t k) {
+    if (k >= wall_touched_.size()) return false;
+    const bool t = wall_touched_[k] != 0;
+    wall_touched_[k] = 0;
+    return t;
+  }
+
+  SimulationConfig<D> config_;
+  MaterialTable materials_;
+  std::vector<bool> wall_material_;
+  std::vector<Params> params_;
+  ParticleStore<D> particles_;
+  std::vector<Body<D>> bodies_;
+  std::vector<Wall<D>> walls_;
+  List list_;
+  std::vector<LayerAccumulator> layer_acc_;
+  std::vector<std::uint8_t> wall_touched_;
+  std::vector<Motion> group_motion_;
+  std::vector<std::function<Vec(double)>> group_velocity_;
+  std::vector<Vec> group_v_now_;
+  std::vector<Observer> observers_;
+  std::vector<analysis::ContactRecord<D>> records_;
+  std::uint64_t records_step_ = std::numeric_limits<std::uint64_t>::max();
+  bool record_next_ = false;
+  std::size_t contacts_ = 0;
+  double time_ = 0.0;
+  std::uint64_t step_ = 0;
+  std::uint64_t next_id_ = 0;
+  double skin_used_ = 0.0;
+  bool list_valid_ = false;
+  bool initialised_ = false;
+  bool parallel_ = false;
+};
+
+}  // namespace granule
