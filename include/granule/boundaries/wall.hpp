@@ -10,17 +10,31 @@
 #include "granule/boundaries/geometry/box.hpp"
 #include "granule/boundaries/geometry/box_container.hpp"
 #include "granule/boundaries/geometry/capsule.hpp"
+#include "granule/boundaries/geometry/cylinder.hpp"
 #include "granule/boundaries/geometry/plane.hpp"
 #include "granule/boundaries/geometry/prism.hpp"
+#include "granule/boundaries/geometry/sphero_line.hpp"
+#include "granule/boundaries/geometry/triangle_mesh.hpp"
 
 namespace granule {
 
 /// The shapes a wall can take in dimension D.
 template <class D>
-struct WallShapes {
-  using type = std::variant<geometry::PlaneShape<D>, geometry::BoxContainerShape<D>,
-                            geometry::BoxShape<D>, geometry::CapsuleShape<D>,
-                            geometry::PrismShape<D>>;
+struct WallShapes;
+
+template <>
+struct WallShapes<Dim2> {
+  using type = std::variant<geometry::PlaneShape<Dim2>, geometry::BoxContainerShape<Dim2>,
+                            geometry::BoxShape<Dim2>, geometry::CapsuleShape<Dim2>,
+                            geometry::PrismShape<Dim2>, geometry::SpheroLineShape>;
+};
+
+template <>
+struct WallShapes<Dim3> {
+  using type = std::variant<geometry::PlaneShape<Dim3>, geometry::BoxContainerShape<Dim3>,
+                            geometry::BoxShape<Dim3>, geometry::CapsuleShape<Dim3>,
+                            geometry::PrismShape<Dim3>, geometry::CylinderShape,
+                            geometry::TriangleMeshShape>;
 };
 
 template <class D>
