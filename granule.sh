@@ -1,0 +1,182 @@
+#!/usr/bin/env bash
+# granule.sh: install dependencies, build, test, run the main example and benchmark granule.
+# Run `./granule.sh help` for the list of commands.
+set -euo pipefail
+
+# The example that `./granule.sh run` builds and runs (a folder name under examples/).
+MAIN_EXAMPLE=two_rod_intrusion
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+JOBS="${GRANULE_JOBS:-$(nproc 2>/dev/null || echo 2)}"
+# "a|b" means either package will do (python3-paraview ships the same `vtk` Python module as
+# python3-vtk9 and conflicts with it); the first one is installed when none is present.
+DEB_PACKAGES=(build-essential cmake libeigen3-dev catch2 libfftw3-dev libbenchmark-dev
+              python3 python3-numpy python3-matplotlib "python3-vtk9|python3-paraview" pkg-config)
+
+say() { printf '[granule.sh] %s\n' "$*" >&2; }
+die() { say "error: $*"; exit 1; }
+
+usage() {
+  cat <<EOF
+usage: ./granule.sh <command> [arguments]
+
+  deps                         install the Debian packages granule needs (only if some are missing)
+  build [dir] [cmake args...]  configure (Release) and build in dir (default: build/)
+  test [ctest args...]         deps + build in build/ + ctest --output-on-failure -j2
+  test-sanitize [ctest args...]
+                               deps + build with ASan/UBSan (-O1 -g) in build-sanitize/ + ctest
+  run [example args...]        deps + build + run the main example ($MAIN_EXAMPLE) in out/<name>/
+  bench [benchmark args...]    deps + build with benchmarks and -march=native in build-bench/,
+                               then run every benchmark (arguments go to the Google Benchmark ones)
+  help                         this text
+
+Environment: GRANULE_JOBS sets the number of parallel compile jobs (default: all cores).
+EOF
+}
+
+# deps: apt-get install whatever is missing from DEB_PACKAGES; do nothing if all are present.
+cmd_deps() {
+  if ! command -v dpkg >/dev/null 2>&1; then
+    say "not a Debian-based system: make sure these (or equivalents) are installed: ${DEB_PACKAGES[*]//|/ or }"
+    return 0
+  fi
+  local missing=() entry alternative status found
+  for entry in "${DEB_PACKAGES[@]}"; do
+    found=0
+    for alternative in ${entry//|/ }; do
+      status="$(dpkg -s "$alternative" 2>/dev/null || true)"
+      if [[ $status == *"Status: install ok installed"* ]]; then
+        found=1
+        break
+      fi
+    done
+    ((found == 1)) || missing+=("${entry%%|*}")
+  done
+  if ((${#missing[@]} == 0)); then
+    return 0
+  fi
+  say "installing missing packages: ${missing[*]}"
+  local sudo=()
+  if [[ $(id -u) -ne 0 ]]; then
+    command -v sudo >/dev/null 2>&1 || die "not root and sudo is not available; install: ${missing[*]}"
+    sudo=(sudo)
+  fi
+  "${sudo[@]}" apt-get update
+  "${sudo[@]}" env DEBIAN_FRONTEND="${DEBIAN_FRONTEND:-noninteractive}" \
+    apt-get install -y --no-install-recommends "${missing[@]}"
+}
+
+# configure_and_build DIR [cmake args...] [-- build args...]: Release unless the args say otherwise.
+configure_and_build() {
+  local dir="$1"
+  shift
+  local cmake_args=() build_args=()
+  while (($# > 0)) && [[ $1 != -- ]]; do
+    cmake_args+=("$1")
+    shift
+  done
+  if (($# > 0)); then
+    shift
+    build_args=("$@")
+  fi
+  cmake -S "$ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release "${cmake_args[@]}"
+  cmake --build "$dir" --parallel "$JOBS" "${build_args[@]}"
+}
+
+cmd_build() {
+  local dir="$ROOT/build"
+  if (($# > 0)) && [[ $1 != -* ]]; then
+    dir="$1"
+    shift
+    [[ $dir == /* ]] || dir="$PWD/$dir"
+  fi
+  configure_and_build "$dir" "$@"
+}
+
+cmd_test() {
+  cmd_deps
+  configure_and_build "$ROOT/build"
+  ctest --test-dir "$ROOT/build" --output-on-failure -j2 "$@"
+}
+
+cmd_test_sanitize() {
+  cmd_deps
+  configure_and_build "$ROOT/build-sanitize" -DGRANULE_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug \
+    "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g" -DGRANULE_BUILD_EXAMPLES=OFF
+  ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1}" \
+  UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}" \
+    ctest --test-dir "$ROOT/build-sanitize" --output-on-failure -j2 -E '^install_and_consume$' "$@"
+}
+
+cmd_run() {
+  cmd_deps
+  local name="$MAIN_EXAMPLE"
+  if [[ -f $ROOT/examples/$MAIN_EXAMPLE/main.cpp ]]; then
+    configure_and_build "$ROOT/build" -- --target "$MAIN_EXAMPLE"
+  else
+    configure_and_build "$ROOT/build" -- --target granule_examples
+  fi
+  if [[ ! -x $ROOT/build/examples/$MAIN_EXAMPLE ]]; then
+    name=""
+    local main_cpp candidate
+    for main_cpp in "$ROOT"/examples/*/main.cpp; do
+      [[ -e $main_cpp ]] || continue
+      candidate="$(basename "$(dirname "$main_cpp")")"
+      if [[ -x $ROOT/build/examples/$candidate ]]; then
+        name="$candidate"
+        break
+      fi
+    done
+    [[ -n $name ]] || die "the main example '$MAIN_EXAMPLE' does not exist and no other example is built"
+    say "the main example '$MAIN_EXAMPLE' does not exist yet; running the first built example, '$name'"
+  fi
+  mkdir -p "$ROOT/out/$name"
+  say "running $name in out/$name/"
+  cd "$ROOT/out/$name"
+  "$ROOT/build/examples/$name" "$@"
+}
+
+cmd_bench() {
+  cmd_deps
+  configure_and_build "$ROOT/build-bench" -DGRANULE_BUILD_BENCHMARKS=ON -DGRANULE_NATIVE=ON \
+    -DGRANULE_BUILD_TESTS=OFF -DGRANULE_BUILD_EXAMPLES=OFF
+  mkdir -p "$ROOT/out/bench"
+  cd "$ROOT/out/bench"
+  local source name exe count=0
+  for source in "$ROOT"/benchmarks/*.cpp; do
+    [[ -e $source ]] || continue
+    name="$(basename "$source" .cpp)"
+    exe="$ROOT/build-bench/benchmarks/bench_$name"
+    [[ -x $exe ]] || die "$exe was not built (is Google Benchmark installed?)"
+    say "running bench_$name"
+    if [[ $name == scene_* ]]; then
+      "$exe"
+    else
+      "$exe" "$@"
+    fi
+    count=$((count + 1))
+  done
+  if ((count == 0)); then
+    say "benchmarks/ holds no benchmark programs yet"
+  fi
+}
+
+main() {
+  local command="${1:-help}"
+  (($# == 0)) || shift
+  case "$command" in
+    deps) cmd_deps ;;
+    build) cmd_build "$@" ;;
+    test) cmd_test "$@" ;;
+    test-sanitize) cmd_test_sanitize "$@" ;;
+    run) cmd_run "$@" ;;
+    bench) cmd_bench "$@" ;;
+    help | -h | --help) usage ;;
+    *)
+      usage >&2
+      die "unknown command '$command'"
+      ;;
+  esac
+}
+
+main "$@"
