@@ -18,7 +18,8 @@ struct SettleOptions {
   double max_time = 1.0;                 ///< give up after this much simulated time [s]
   double zero_velocity_interval = 0.0;   ///< zero all velocities this often [s]; 0 = never
   double kinetic_energy_per_particle = 1e-12;  ///< quiet when mean KE per particle is below [J]
-  double check_interval = 1e-3;          ///< how often the criterion is evaluated [s]
+  double check_interval = 1e-3;          ///< how often the criterion is evaluated [s] (with
+                                         ///< zeroing: at the end of each zeroing interval)
   std::function<void(double time, double ke_per_particle)> on_check;  ///< progress hook
 };
 
@@ -45,20 +46,23 @@ SettleResult settle(Sim& sim, const SettleOptions& o) {
   while (sim.time() - t0 < o.max_time) {
     sim.step();
     ++k;
-    if (k % steps_per_zero == 0) {
-      auto& p = sim.particles();
-      for (std::size_t i = 0; i < p.owned(); ++i) {
-        p.v[i].setZero();
-        p.omega[i] = Sim::Dimension::zero_ang();
-      }
-    }
-    if (k % steps_per_check == 0) {
+    // With zeroing, judge only at the end of a zeroing interval: right after a reset the
+    // kinetic energy is artificially small.
+    const bool zeroing = steps_per_zero != std::numeric_limits<std::uint64_t>::max();
+    if (zeroing ? k % steps_per_zero == 0 : k % steps_per_check == 0) {
       const std::size_t n = std::max<std::size_t>(1, sim.particles().owned());
       res.kinetic_energy_per_particle = sim.kinetic_energy() / static_cast<double>(n);
       if (o.on_check) o.on_check(sim.time(), res.kinetic_energy_per_particle);
       if (res.kinetic_energy_per_particle < o.kinetic_energy_per_particle) {
         res.settled = true;
         break;
+      }
+    }
+    if (k % steps_per_zero == 0) {
+      auto& p = sim.particles();
+      for (std::size_t i = 0; i < p.owned(); ++i) {
+        p.v[i].setZero();
+        p.omega[i] = Sim::Dimension::zero_ang();
       }
     }
   }
