@@ -1,0 +1,815 @@
+#pragma once
+// Lateral shock in a lunar-gravity granular channel (paper 001 in shared/papers: Hofheins et
+// al., impulse-induced surface dilation of a granular bed at low gravity), two parts:
+//
+// 1. Validation (001 section 2.2, table 1, fig. 1): a square-packed grid of spheres (5 x 5 in
+//    the x-y plane) whose middle row along x is struck: its first particle starts with the
+//    speed v_im along the row. The peak-force time of every later particle of the row is
+//    fitted against its position -> wave speed c_w. A Hertz chain with zero static load is a
+//    "sonic vacuum" (Nesterenko 2001, ch. 1): its only speed scale is set by the impact, and by
+//    dimensional analysis c_w ~ (E*/rho)^(2/5) v_im^(1/5) at every v_im. An acoustic plateau
+//    needs a static force F0 per contact along the row; its long-wave sound speed is
+//      c_0 = 2R sqrt(k_lin / m),   k_lin = dF/dd = 3/2 k_n d0^(1/2),   F0 = k_n d0^(3/2),
+//      k_n = 4/3 E* sqrt(R*)       (Hertz; E* = E / (2 (1 - nu^2)), R* = R / 2),
+//    which is 001 eq. 7 (Nesterenko 2001 eq. 1.7) written with the contact stiffness. The grid
+//    is pre-loaded uniaxially: the rows are squeezed between two planes (x_lo, x_hi) so that
+//    every contact along x carries F0 exactly (equilibrium positions from the Hertz law, the
+//    sphere-plane contacts with R* = R); rows touch each other without load.
+// 2. Channel (001 sections 2.3-2.9, table 2): spheres of R = 1.25 mm (Hertz-Mindlin + EPSD
+//    rolling + SJKR cohesion) poured at a controlled rate into a channel periodic across its
+//    width (x), closed by end planes at y = 0 and y = L and a floor plane, under lunar gravity.
+//    Pour with e -> 0 and no rolling damping (001 section 2.4) in a first simulation, copy the
+//    bed into a second simulation with the table-2 material, delete particles above the fill
+//    height, settle (velocities zeroed every 25 ms), save a checkpoint. Shock: the sheet
+//    z < 2R is frozen as the rough floor, the sheet y < 2R is the virtual piston moving at v_p
+//    along +y (P wave) or the virtual bender z = A sin(2 pi f t) for one period (S wave,
+//    A = v_p / (2 pi f)). A 0.5 cm x 0.5 cm sensor grid in y-z records the mean per-particle
+//    contact-force magnitude and mean overlap per bin; arrival time = first peak above 10 x the
+//    initial level (analysis/wave_front.hpp); straight-line fits over y in [0, 15 cm] -> c_w
+//    and over [30, 50 cm] -> c_p per depth with 2-sigma rejection (001 section 2.8.3);
+//    delta_m / delta_0 per column (001 fig. 16) and the bed-height change per 0.5 cm column
+//    from the top particles (001 section 2.8.2, analysis/packing.hpp).
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <granule/analysis/bin_grid.hpp>
+#include <granule/analysis/packing.hpp>
+#include <granule/analysis/wave_front.hpp>
+#include <granule/granule.hpp>
+#include <granule/io/checkpoint.hpp>
+#include <granule/io/progress.hpp>
+#include <granule/scene/pour.hpp>
+#include <granule/scene/settle.hpp>
+
+namespace granule::examples::lunar_shock {
+
+using Vec = Dim3::Vec;
+
+// =============================================================================================
+// Part 1: 5 x 5 grid validation
+// =============================================================================================
+
+/// Particle species of 001 table 1.
+struct GridMaterial {
+  std::string name;
+  double youngs_modulus = 0.0;  ///< [Pa]
+  double poisson_ratio = 0.0;   ///< [-]
+  double density = 0.0;         ///< [kg/m^3]
+  double friction = 0.0;        ///< mu_s [-]
+  double radius = 10.32e-3;     ///< [m]
+  double paper_c0 = 0.0;        ///< sound speed reported in 001 table 1 [m/s]
+  double paper_dt = 0.0;        ///< time step of 001 table 1 [s]
+};
+
+/// Steel of 001 table 1 (their ref. [93]).
+inline GridMaterial steel() { return {"steel", 2.1e11, 0.28, 7870.0, 0.5, 10.32e-3, 361.87, 1e-10}; }
+/// Soft particles of 001 table 1 (3D-bed material, 1D-test size).
+inline GridMaterial soft() { return {"soft", 5e6, 0.2, 2500.0, 0.7, 10.32e-3, 8.57, 1e-6}; }
+
+/// Hertz quantities of two equal spheres (and a sphere on a plane of the same material).
+struct ChainHertz {
+  double mass = 0.0;       ///< particle mass [kg]
+  double e_eff = 0.0;      ///< E* = E / (2 (1 - nu^2)) [Pa]
+  double k_pp = 0.0;       ///< k_n = 4/3 E* sqrt(R/2), sphere-sphere [N/m^1.5]
+  double k_pw = 0.0;       ///< k_n = 4/3 E* sqrt(R), sphere-plane [N/m^1.5]
+  double radius = 0.0;     ///< [m]
+
+  explicit ChainHertz(const GridMaterial& m) : radius(m.radius) {
+    mass = m.density * 4.0 / 3.0 * std::numbers::pi * m.radius * m.radius * m.radius;
+    e_eff = m.youngs_modulus / (2.0 * (1.0 - m.poisson_ratio * m.poisson_ratio));
+    k_pp = 4.0 / 3.0 * e_eff * std::sqrt(0.5 * m.radius);
+    k_pw = 4.0 / 3.0 * e_eff * std::sqrt(m.radius);
+  }
+  /// Sphere-sphere overlap carrying the force F [N] -> [m].
+  double overlap_pp(double force) const { return std::pow(force / k_pp, 2.0 / 3.0); }
+  /// Sphere-plane overlap carrying the force F [N] -> [m].
+  double overlap_pw(double force) const { return std::pow(force / k_pw, 2.0 / 3.0); }
+  /// Linearised contact stiffness dF/dd at static force F [N] -> [N/m].
+  double k_lin(double force) const { return 1.5 * k_pp * std::sqrt(overlap_pp(force)); }
+  /// Long-wave sound speed of the chain pre-loaded by F [N]: 2R sqrt(k_lin/m) [m/s].
+  double sound_speed(double force) const { return 2.0 * radius * std::sqrt(k_lin(force) / mass); }
+  /// Static force per contact giving the sound speed c0 [m/s] -> [N] (inverse of sound_speed).
+  double force_for_sound_speed(double c0) const {
+    const double k = mass * std::pow(c0 / (2.0 * radius), 2);  // required k_lin [N/m]
+    const double d0 = std::pow(k / (1.5 * k_pp), 2);           // overlap [m]
+    return k_pp * std::pow(d0, 1.5);
+  }
+  /// Solitary-wave speed of the unloaded chain for particle speed v_m [m/s] (Nesterenko 2001
+  /// eq. 1.43, 001 eq. 9) [m/s].
+  double sonic_vacuum_speed(double v_m, double youngs, double nu, double rho) const {
+    return std::pow(16.0 / 25.0, 0.2) *
+           std::pow(2.0 * youngs / (std::numbers::pi * rho * (1.0 - nu * nu)), 0.4) * std::pow(v_m, 0.2);
+  }
+};
+
+struct GridOptions {
+  GridMaterial material = soft();
+  int length = 6;                  ///< particles along the struck row, the striker included [-]
+  int rows = 5;                    ///< rows across (y) [-]
+  double preload = 0.0;            ///< static force per contact along x [N]
+  double restitution = 1.0;        ///< e [-] (1: elastic chain)
+  double dt = 0.0;                 ///< time step [s]; 0 = the largest the engine accepts
+  /// Cap dt at the Hertz collision time of the impact over this many steps (0 = no cap) [-].
+  double collision_steps = 0.0;
+  /// First particle of the row used in the fit (0 is the struck one; its neighbour 1 responds
+  /// at once, before any wave has formed) [-].
+  int first_fitted = 2;
+  /// Leave the last particle (against the far wall, whose peak merges with the reflection) out
+  /// of the fit [-].
+  bool skip_last = true;
+};
+
+struct GridResult {
+  double v_im = 0.0;               ///< impact speed [m/s]
+  double c_w = 0.0;                ///< fitted wave speed [m/s]
+  double c_w_uncertainty = 0.0;    ///< standard uncertainty of the slope [m/s]
+  double dt = 0.0;                 ///< time step used [s]
+  std::uint64_t steps = 0;         ///< steps run [-]
+  std::vector<double> position;    ///< particle positions along the row (1 .. length-1) [m]
+  std::vector<double> arrival;     ///< their peak-force times [s]
+};
+
+/// Runs one impact on the grid and fits position vs peak-force time.
+inline GridResult run_grid(const GridOptions& o, double v_im, double threshold_fraction = 0.5) {
+  require(o.length >= o.first_fitted + 3 + (o.skip_last ? 1 : 0), "lunar_shock::run_grid", "length", o.length,
+          "[first_fitted + 3 (+1 with skip_last), inf) particles: the fit needs three");
+  require(o.first_fitted >= 1, "lunar_shock::run_grid", "first_fitted", o.first_fitted, "[1, length)");
+  require(o.rows >= 1, "lunar_shock::run_grid", "rows", o.rows, "[1, inf)");
+  require(o.preload >= 0.0, "lunar_shock::run_grid", "preload", o.preload, "[0, inf) N");
+  require(v_im > 0.0 && std::isfinite(v_im), "lunar_shock::run_grid", "v_im", v_im, "(0, inf) m/s");
+  const GridMaterial& gm = o.material;
+  const ChainHertz hz(gm);
+  const double r = gm.radius;
+  const double d_pp = o.preload > 0.0 ? hz.overlap_pp(o.preload) : 0.0;
+  const double d_pw = o.preload > 0.0 ? hz.overlap_pw(o.preload) : 0.0;
+  const double a = 2.0 * r - d_pp;            // spacing along the struck rows [m]
+  const double b = 2.0 * r + 1e-9;            // spacing across: touching without load [m]
+  const double x_last = (o.length - 1) * a;
+
+  SimulationConfig<Dim3> cfg;
+  cfg.domain.lo = Vec(-2.0 * r, -2.0 * r, -2.0 * r);
+  cfg.domain.hi = Vec(x_last + 2.0 * r, (o.rows - 1) * b + 2.0 * r, 2.0 * r);
+  cfg.dt = 1.0;                        // replaced below once the particles exist
+  cfg.allow_large_time_step = true;    // only until set_dt below: the check then runs
+  // Impacts at up to 10 m/s on the soft spheres reach overlaps of ~0.6 R (001 runs them too).
+  cfg.max_overlap_ratio = 1.0;
+  Simulation<Dim3, contact::HertzMindlin> sim(cfg);
+  Material m;
+  m.name = gm.name;
+  m.youngs_modulus = gm.youngs_modulus;
+  m.poisson_ratio = gm.poisson_ratio;
+  m.density = gm.density;
+  m.friction = gm.friction;
+  m.restitution = o.restitution;
+  const auto mat = sim.add_material(m);
+  const auto wall = sim.add_wall_material(m);
+  sim.add_wall(geometry::PlaneShape<Dim3>(Vec(-r + d_pw, 0, 0), Vec(1, 0, 0)), wall);
+  sim.add_wall(geometry::PlaneShape<Dim3>(Vec(x_last + r - d_pw, 0, 0), Vec(-1, 0, 0)), wall);
+  const int mid = o.rows / 2;
+  std::vector<std::uint64_t> row_ids;
+  for (int j = 0; j < o.rows; ++j) {
+    for (int i = 0; i < o.length; ++i) {
+      const Vec x(i * a, j * b, 0.0);
+      const Vec v = (j == mid && i == 0) ? Vec(v_im, 0, 0) : Vec::Zero();
+      const auto id = sim.add_particle(x, r, mat, v);
+      if (j == mid) row_ids.push_back(id);
+    }
+  }
+  // Time step: the engine's limit (0.2 Rayleigh times), optionally capped by the collision time.
+  double dt = o.dt > 0.0 ? o.dt : sim.suggested_time_step();
+  if (o.collision_steps > 0.0) {
+    const PairMaterial pm = sim.materials().pair(mat, mat);
+    dt = std::min(dt, hertz_collision_time(0.5 * hz.mass, pm.E_eff, 0.5 * r, v_im) / o.collision_steps);
+  }
+  sim.set_dt(dt);
+
+  // Expected arrival at the far end: the slower of the sound speed and the unloaded solitary
+  // wave (for v_m ~ v_im / 2); run 3x that, long enough for every particle of the row to peak.
+  const double c_sv = hz.sonic_vacuum_speed(0.5 * v_im, gm.youngs_modulus, gm.poisson_ratio, gm.density);
+  const double c_est = std::max(o.preload > 0.0 ? hz.sound_speed(o.preload) : 0.0, c_sv);
+  const double t_end = 2.0 * x_last / c_est;
+  std::vector<analysis::SensorSeries> series(static_cast<std::size_t>(o.length - 1));
+  for (int i = 1; i < o.length; ++i) series[static_cast<std::size_t>(i - 1)].position = i * a;
+  const auto record = [&]() {
+    const auto& p = sim.particles();
+    for (int i = 1; i < o.length; ++i) {
+      auto& s = series[static_cast<std::size_t>(i - 1)];
+      s.time.push_back(sim.time());
+      s.signal.push_back(p.f[sim.index_of(row_ids[static_cast<std::size_t>(i)])].norm());
+    }
+  };
+  record();
+  while (sim.time() < t_end) {
+    sim.step();
+    record();
+  }
+  GridResult res;
+  res.v_im = v_im;
+  res.dt = dt;
+  res.steps = sim.step_count();
+  std::vector<double> t, x;
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    auto& s = series[k];
+    // Net force is zero at rest: the peak is the first local maximum above half the series'
+    // largest value (a reflection from the far wall can only come later).
+    const double peak = *std::max_element(s.signal.begin(), s.signal.end());
+    analysis::ArrivalSettings as;
+    as.absolute_threshold = threshold_fraction * peak;
+    as.refine_parabolic = true;
+    const auto ta = analysis::arrival_time(s, as);
+    res.position.push_back(s.position);
+    res.arrival.push_back(ta ? *ta : std::numeric_limits<double>::quiet_NaN());
+    const int i = static_cast<int>(k) + 1;  // index along the row
+    if (ta && i >= o.first_fitted && !(o.skip_last && i == o.length - 1)) {
+      t.push_back(*ta);
+      x.push_back(s.position);
+    }
+  }
+  if (t.size() >= 3) {
+    const analysis::LineFit f = analysis::fit_line(t, x);
+    res.c_w = f.slope;
+    res.c_w_uncertainty = f.slope_uncertainty;
+  } else {
+    res.c_w = std::numeric_limits<double>::quiet_NaN();
+    res.c_w_uncertainty = std::numeric_limits<double>::quiet_NaN();
+  }
+  return res;
+}
+
+/// Power law c = A v^n fitted by least squares in log-log space.
+struct PowerLaw {
+  double exponent = 0.0;              ///< n [-]
+  double exponent_uncertainty = 0.0;  ///< u(n) [-]
+  double prefactor = 0.0;             ///< A [m/s / (m/s)^n]
+};
+
+inline PowerLaw fit_power_law(const std::vector<double>& v, const std::vector<double>& c) {
+  std::vector<double> lv, lc;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    lv.push_back(std::log(v[k]));
+    lc.push_back(std::log(c[k]));
+  }
+  const analysis::LineFit f = analysis::fit_line(lv, lc);
+  return {f.slope, f.slope_uncertainty, std::exp(f.intercept)};
+}
+
+
+// =============================================================================================
+// Part 2: the channel
+// =============================================================================================
+
+using ChannelSim = Simulation<Dim3, contact::HertzMindlinEpsdSjkr, neighbours::VerletList>;
+
+/// Packing levels of 001 table 3, set by the insertion rate.
+enum class Packing { Loose, Medium, Compact };
+
+inline const char* packing_name(Packing p) {
+  return p == Packing::Loose ? "loose" : p == Packing::Medium ? "medium" : "compact";
+}
+
+/// Insertion flux of 001 table 3 for the 2 m x 2 cm channel, per unit floor area
+/// [particles / (s m^2)]: 600 000, 200 000 and 18 900 particles/s over 0.04 m^2.
+inline double paper_insertion_flux(Packing p) {
+  const double rate = p == Packing::Loose ? 600000.0 : p == Packing::Medium ? 200000.0 : 18900.0;
+  return rate / (2.0 * 0.02);
+}
+
+/// Sound speed c_0 of 001 table 6 [m/s].
+inline double paper_sound_speed(Packing p) {
+  return p == Packing::Loose ? 6.55 : p == Packing::Medium ? 7.01 : 7.51;
+}
+
+struct ChannelOptions {
+  // geometry
+  double length = 0.25;          ///< channel length along y (wave direction) [m]
+  double depth = 0.035;          ///< fill height [m]
+  double width = 0.02;           ///< periodic width along x [m]
+  double radius = 1.25e-3;       ///< particle radius [m]
+  // preparation
+  Packing packing = Packing::Loose;
+  double insertion_flux = 0.0;   ///< [1/(s m^2)]; 0 = table 3 for `packing`
+  double drop_height = 0.02;     ///< insertion region starts this far above the fill height [m] (001: 0.10)
+  double region_height = 0.03;   ///< height of the insertion region [m] (001: 0.20)
+  double pour_speed = 0.65;      ///< downward speed of inserted particles [m/s] (001: 0)
+  double dt_prepare = 0.0;       ///< pour/settle time step [s]; 0 = largest allowed
+  double settle_time = 0.2;      ///< settling time after the top is removed [s]
+  double zero_interval = 0.025;  ///< velocities zeroed this often while settling [s] (001: 25 ms)
+  double gravity = 1.625;        ///< lunar gravity along -z [m/s^2]
+  std::uint64_t seed = 1;
+  std::filesystem::path bed_dir = ".";  ///< where the settled-bed checkpoint is cached
+  // shock
+  bool bender = false;           ///< S wave by the virtual bender instead of the P-wave piston
+  double bender_frequency = 50e3;  ///< [Hz] (001 section 2.6)
+  double dt_shock = 0.0;         ///< [s]; 0 = min(largest allowed, tau_c(v_p)/20, bender period/20)
+  double run_time = 0.0;         ///< simulated time after the shock [s]; 0 = 2.5 L / 7 m/s
+  double sample_interval = 2e-5; ///< sensor sampling interval [s]
+  /// The sensors record this long before the impulse; the mean over it is each bin's initial
+  /// level (001: "initial average particle force") [s].
+  double pre_record = 1e-3;
+  /// Force series are stored for this long after the impulse (0: the whole run); overlaps are
+  /// tracked over the whole run [s].
+  double sensor_time = 0.0;
+  double bin = 5e-3;             ///< sensor grid spacing in y and z [m] (001: 0.5 cm)
+  double cw_from = 0.0, cw_to = 0.08;   ///< fit window for c_w along y [m] (001: 0-15 cm)
+  double cp_from = 0.12, cp_to = 0.20;  ///< fit window for c_p along y [m] (001: 30-50 cm)
+  bool progress = true;          ///< progress lines on stderr
+
+  /// The paper's geometry and analysis windows (001 sections 2.3-2.8).
+  static ChannelOptions paper() {
+    ChannelOptions o;
+    o.length = 2.0;
+    o.depth = 0.20;
+    o.drop_height = 0.10;
+    o.region_height = 0.20;
+    o.pour_speed = 0.0;
+    o.dt_prepare = 1e-6;
+    o.dt_shock = 1e-6;
+    o.settle_time = 1.0;
+    o.run_time = 1.5;
+    o.sample_interval = 1e-4;
+    o.sensor_time = 0.25;  // 001 writes 1 ms frames over the first 0.25 s
+    o.cw_from = 0.0;
+    o.cw_to = 0.15;
+    o.cp_from = 0.30;
+    o.cp_to = 0.50;
+    return o;
+  }
+
+  double flux() const { return insertion_flux > 0.0 ? insertion_flux : paper_insertion_flux(packing); }
+  double particle_volume() const { return 4.0 / 3.0 * std::numbers::pi * radius * radius * radius; }
+  /// Particles poured: 1.1 x a random close packing (0.64) of the fill volume, so that every
+  /// packing overfills and the top can be cut off.
+  std::size_t pour_count() const {
+    return static_cast<std::size_t>(1.1 * 0.64 * length * width * depth / particle_volume());
+  }
+  void validate() const {
+    const std::string w = "lunar_shock::ChannelOptions";
+    require(length > 10.0 * radius, w, "length", length, "(10 R, inf) m");
+    require(depth > 4.0 * radius, w, "depth", depth, "(4 R, inf) m");
+    require(width >= 4.0 * radius, w, "width", width, "[4 R, inf) m");
+    require_positive(radius, w, "radius");
+    require_positive(region_height, w, "region_height");
+    require_non_negative(drop_height, w, "drop_height");
+    require_non_negative(pour_speed, w, "pour_speed");
+    require_positive(settle_time, w, "settle_time");
+    require_positive(zero_interval, w, "zero_interval");
+    require_positive(sample_interval, w, "sample_interval");
+    require(bin >= 2.0 * radius, w, "bin", bin, "[2 R, inf) m");
+    require(cw_to > cw_from && cp_to > cp_from, w, "fit windows (to - from)", std::min(cw_to - cw_from, cp_to - cp_from),
+            "(0, inf) m");
+  }
+};
+
+/// Table-2 material; `pouring` gives the pouring variant (e -> 0, no rolling damping, 001 sec. 2.4).
+inline Material channel_material(bool pouring) {
+  Material m;
+  m.name = pouring ? "regolith (pouring)" : "regolith";
+  m.youngs_modulus = 5e6;           // [Pa]
+  m.poisson_ratio = 0.2;
+  m.density = 2500.0;               // [kg/m^3]
+  m.friction = 1.0;
+  m.rolling_friction = 0.8;
+  m.rolling_damping = pouring ? 0.0 : 2.0;
+  m.restitution = pouring ? 0.01 : 0.5;  // 001 pours with e = 0; the Hertz damping needs e > 0
+  m.cohesion_energy_density = 1000.0;    // [J/m^3]
+  return m;
+}
+
+/// A channel simulation with materials and walls (floor, end walls) but no particles.
+inline std::unique_ptr<ChannelSim> make_channel(const ChannelOptions& o, double dt, bool pouring) {
+  SimulationConfig<Dim3> cfg;
+  cfg.domain.lo = Vec(0.0, 0.0, 0.0);
+  cfg.domain.hi = Vec(o.width, o.length, o.depth + o.drop_height + o.region_height + 0.05);
+  cfg.domain.periodic = Eigen::Matrix<bool, 3, 1>(true, false, false);
+  cfg.gravity = Vec(0.0, 0.0, -o.gravity);
+  cfg.dt = dt;
+  auto sim = std::make_unique<ChannelSim>(cfg);
+  const Material m = channel_material(pouring);
+  sim->add_material(m);
+  const auto wall = sim->add_wall_material(m);
+  sim->add_wall(geometry::PlaneShape<Dim3>(Vec(0, 0, 0), Vec(0, 0, 1)), wall);         // floor
+  sim->add_wall(geometry::PlaneShape<Dim3>(Vec(0, 0, 0), Vec(0, 1, 0)), wall);         // y = 0
+  sim->add_wall(geometry::PlaneShape<Dim3>(Vec(0, o.length, 0), Vec(0, -1, 0)), wall); // y = L
+  return sim;
+}
+
+/// Largest step the engine accepts for the channel particles (0.2 Rayleigh times) [s].
+inline double channel_max_dt(const ChannelOptions& o) {
+  const Material m = channel_material(false);
+  return 0.2 * rayleigh_time(o.radius, m.density, m.shear_modulus(), m.poisson_ratio);
+}
+
+/// Cache file of the settled bed: the name carries a hash of every bed parameter.
+inline std::filesystem::path bed_path(const ChannelOptions& o) {
+  const double vals[] = {o.length, o.depth, o.width, o.radius, o.flux(), o.drop_height, o.region_height,
+                         o.pour_speed, o.dt_prepare, o.settle_time, o.zero_interval, o.gravity,
+                         static_cast<double>(o.seed), 2.0 /* bed recipe version */};
+  std::uint64_t h = 1469598103934665603ull;
+  for (double v : vals) {
+    unsigned char b[sizeof(double)];
+    std::memcpy(b, &v, sizeof v);
+    for (unsigned char c : b) {
+      h ^= c;
+      h *= 1099511628211ull;
+    }
+  }
+  char name[64];
+  std::snprintf(name, sizeof name, "bed_%s_%016llx.ckpt", packing_name(o.packing), static_cast<unsigned long long>(h));
+  return o.bed_dir / name;
+}
+
+/// What bed preparation did.
+struct BedReport {
+  bool from_cache = false;
+  std::size_t poured = 0;        ///< particles inserted [-]
+  std::size_t removed = 0;       ///< deleted above the fill height [-]
+  std::size_t particles = 0;     ///< in the bed [-]
+  double pour_time = 0.0;        ///< simulated pouring time [s]
+  double settle_time = 0.0;      ///< simulated settling time [s]
+  double ke_per_particle = 0.0;  ///< at the end of settling [J]
+  double packing_fraction = 0.0; ///< particle volume / (L W H) below the fill height [-]
+  double mean_overlap = 0.0;     ///< mean particle-particle overlap delta_0 [m]
+  double wall_seconds = 0.0;     ///< [s]
+};
+
+namespace detail {
+inline double elapsed_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Mean particle-particle overlap of the last recorded contacts [m].
+inline double mean_overlap(const ChannelSim& sim) {
+  double s = 0.0;
+  std::size_t n = 0;
+  for (const auto& c : sim.recorded_contacts())
+    if (c.j != analysis::ContactRecord<Dim3>::kWall) {
+      s += c.overlap;
+      ++n;
+    }
+  return n ? s / static_cast<double>(n) : 0.0;
+}
+}  // namespace detail
+
+/// Pours, trims and settles a bed (001 section 2.4) unless a cached one exists; writes the
+/// checkpoint bed_path(o). The bed simulation uses the table-2 material and dt_prepare.
+inline BedReport prepare_bed(const ChannelOptions& o) {
+  o.validate();
+  const auto t_wall = std::chrono::steady_clock::now();
+  BedReport rep;
+  const double dt = o.dt_prepare > 0.0 ? o.dt_prepare : channel_max_dt(o);
+  const auto path = bed_path(o);
+  auto bed = make_channel(o, dt, false);
+  if (std::filesystem::exists(path)) {
+    io::read_checkpoint(*bed, path.string());
+    rep.from_cache = true;
+  } else {
+    // 1. Pour with e -> 0 and no rolling damping.
+    auto pour_sim = make_channel(o, dt, true);
+    const double r = o.radius;
+    geometry::Aabb<Dim3> region{Vec(r, r, o.depth + o.drop_height),
+                                Vec(o.width - r, o.length - r, o.depth + o.drop_height + o.region_height)};
+    const std::size_t total = o.pour_count();
+    const double rate = o.flux() * o.length * o.width;  // [particles/s]
+    scene::Pour<ChannelSim> pour(*pour_sim, region, scene::MonodisperseSizes(r), scene::StreamSchedule(rate, total), 0,
+                                 Vec(0, 0, -o.pour_speed), 0, o.seed);
+    io::ProgressReporter progress({.end_time = 0.0, .mode = o.progress ? io::ProgressMode::On : io::ProgressMode::Off,
+                                   .interval = 5.0, .label = "pour"});
+    const auto every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(1e-3 / dt)));
+    // Pour, then let the last particles land: stop when the mean kinetic energy per particle
+    // is below that of a particle moving at 1 cm/s (or 3 s after the last insertion is due).
+    const double m = channel_material(false).density * o.particle_volume();
+    const double quiet = 0.5 * m * 1e-4;
+    const double t_limit = static_cast<double>(total) / rate + 3.0;
+    while (pour_sim->time() < t_limit) {
+      pour.update();
+      pour_sim->run(every);
+      progress.update(pour_sim->step_count(), pour_sim->time());
+      if (pour.finished()) {
+        const double n = static_cast<double>(std::max<std::size_t>(1, pour_sim->particles().owned()));
+        if (pour_sim->kinetic_energy() / n < quiet) break;
+      }
+    }
+    progress.finish(pour_sim->step_count(), pour_sim->time());
+    rep.poured = pour.inserted();
+    rep.pour_time = pour_sim->time();
+    // 2. Table-2 material: copy the bed at rest, remove what is above the fill height.
+    const auto& p = pour_sim->particles();
+    for (std::size_t i = 0; i < p.owned(); ++i)
+      if (p.x[i].z() <= o.depth - r) bed->add_particle(p.x[i], p.radius[i], 0);
+    rep.removed = p.owned() - bed->particles().owned();
+    pour_sim.reset();
+    // 3. Settle, zeroing velocities every 25 ms.
+    scene::SettleOptions so;
+    so.max_time = o.settle_time;
+    so.zero_velocity_interval = o.zero_interval;
+    so.kinetic_energy_per_particle = 0.0;  // run the whole settle_time
+    so.check_interval = 1e-3;
+    io::ProgressReporter p2({.end_time = o.settle_time, .mode = o.progress ? io::ProgressMode::On : io::ProgressMode::Off,
+                             .interval = 5.0, .label = "settle"});
+    so.on_check = [&](double t, double) { p2.update(bed->step_count(), t); };
+    const auto sr = scene::settle(*bed, so);
+    p2.finish(bed->step_count(), bed->time());
+    rep.settle_time = sr.time;
+    std::filesystem::create_directories(o.bed_dir);
+    io::write_checkpoint(*bed, path.string());
+  }
+  const auto& p = bed->particles();
+  rep.particles = p.owned();
+  const std::size_t n = std::max<std::size_t>(1, p.owned());
+  rep.ke_per_particle = bed->kinetic_energy() / static_cast<double>(n);
+  rep.packing_fraction = static_cast<double>(p.owned()) * o.particle_volume() / (o.length * o.width * o.depth);
+  bed->request_contacts();
+  bed->step();
+  rep.mean_overlap = detail::mean_overlap(*bed);
+  rep.wall_seconds = detail::elapsed_since(t_wall);
+  return rep;
+}
+
+/// Results of one shock.
+struct ShockResult {
+  double v_p = 0.0;              ///< piston (or bender peak) speed [m/s]
+  double dt = 0.0;               ///< [s]
+  std::vector<double> depth;     ///< depth of each sensor row (centre) [m]
+  std::vector<double> y;         ///< centre of each sensor column [m]
+  std::vector<double> arrival;   ///< [row * ny + column] arrival time, NaN if none [s]
+  std::vector<double> c_w, c_w_u, c_p, c_p_u;  ///< per depth, NaN if the fit failed [m/s]
+  double c_w_mean = 0.0, c_w_sd = 0.0;  ///< depth average and spread [m/s]
+  double c_p_mean = 0.0, c_p_sd = 0.0;  ///< [m/s]
+  std::vector<double> delta_ratio;      ///< delta_m / delta_0 per column [-]
+  std::vector<double> dz;               ///< bed-height change per column [m]
+  double delta_0 = 0.0;                 ///< mean initial overlap of the sensor bins [m]
+  double delta_ratio_mean = 0.0;        ///< delta_m / delta_0 averaged over the c_p window [-]
+  double dz_mean = 0.0, dz_sd = 0.0;    ///< over the c_p window [m]
+  double max_particle_speed = 0.0;      ///< largest |v| outside the piston after 2 ms [m/s]
+  std::size_t ejected = 0;              ///< particles removed above the ceiling [-]
+  double wall_seconds = 0.0;            ///< [s]
+  std::uint64_t steps = 0;
+  std::size_t particles = 0;
+};
+
+namespace detail {
+inline void mean_sd(const std::vector<double>& v, double& mean, double& sd) {
+  double s = 0.0, s2 = 0.0;
+  std::size_t n = 0;
+  for (double x : v)
+    if (std::isfinite(x)) {
+      s += x;
+      s2 += x * x;
+      ++n;
+    }
+  mean = n ? s / static_cast<double>(n) : std::numeric_limits<double>::quiet_NaN();
+  sd = n > 1 ? std::sqrt(std::max(0.0, (s2 - s * s / static_cast<double>(n)) / static_cast<double>(n - 1))) : 0.0;
+}
+
+/// Front speed over the sensors of one row inside [from, to], NaN when fewer than 3 arrivals.
+inline std::pair<double, double> row_speed(const std::vector<double>& y, const std::vector<double>& t, double from,
+                                           double to) {
+  std::vector<double> yy, tt;
+  for (std::size_t k = 0; k < y.size(); ++k)
+    if (y[k] >= from && y[k] <= to) {
+      yy.push_back(y[k]);
+      tt.push_back(t[k]);
+    }
+  std::size_t finite = 0;
+  for (double v : tt) finite += std::isfinite(v);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (finite < 4) return {nan, nan};
+  try {
+    const auto fs = analysis::front_speed_from_arrivals(yy, tt, 2.0);
+    return {fs.speed, fs.speed_uncertainty};
+  } catch (const InvalidParameter&) {
+    return {nan, nan};
+  }
+}
+}  // namespace detail
+
+/// Loads the settled bed and sends one P wave (piston) or S wave (bender) of speed v_p.
+inline ShockResult run_shock(const ChannelOptions& o, double v_p) {
+  o.validate();
+  require(v_p > 0.0 && std::isfinite(v_p), "lunar_shock::run_shock", "v_p", v_p, "(0, inf) m/s");
+  const auto t_wall = std::chrono::steady_clock::now();
+  const double r = o.radius;
+  const double dt_bed = o.dt_prepare > 0.0 ? o.dt_prepare : channel_max_dt(o);
+  auto sim_ptr = make_channel(o, dt_bed, false);
+  ChannelSim& sim = *sim_ptr;
+  io::read_checkpoint(sim, bed_path(o).string());
+  // Rough floor: the sheet z < 2R, frozen (001 section 2.6). Piston/bender: the sheet y < 2R.
+  const std::uint32_t floor_group = 1, piston_group = 2;
+  {
+    const auto& p = sim.particles();
+    sim.assign_group(floor_group, [&](std::size_t i) { return p.x[i].z() < 2.0 * r; });
+    sim.assign_group(piston_group, [&](std::size_t i) { return p.x[i].y() < 2.0 * r && p.group[i] != floor_group; });
+  }
+  sim.freeze_group(floor_group);
+  ShockResult res;
+  res.v_p = v_p;
+  // Time step: the engine's limit, at most 1/20 of the Hertz collision time of a particle pair
+  // meeting at v_p, and 1/20 of the bender period (001: 20 steps per period).
+  double dt = o.dt_shock;
+  if (dt <= 0.0) {
+    const PairMaterial pm = sim.materials().pair(0, 0);
+    const double m = channel_material(false).density * o.particle_volume();
+    dt = std::min(channel_max_dt(o), hertz_collision_time(0.5 * m, pm.E_eff, 0.5 * r, v_p) / 20.0);
+    if (o.bender) dt = std::min(dt, 1.0 / (20.0 * o.bender_frequency));
+  }
+  sim.set_dt(dt);
+  res.dt = dt;
+  const double t0 = sim.time() + o.pre_record;  // time of the impulse
+  const double run_time = o.run_time > 0.0 ? o.run_time : 2.5 * o.length / 7.0;
+
+  // Sensor grid in y-z.
+  const int ny = std::max(1, static_cast<int>(std::floor(o.length / o.bin)));
+  const int nz = std::max(1, static_cast<int>(std::floor(o.depth / o.bin)));
+  const std::size_t nb = static_cast<std::size_t>(ny) * static_cast<std::size_t>(nz);
+  for (int k = 0; k < nz; ++k) res.depth.push_back(o.depth - (k + 0.5) * o.bin);
+  for (int j = 0; j < ny; ++j) res.y.push_back((j + 0.5) * o.bin);
+  std::vector<analysis::SensorSeries> force(nb);
+  std::vector<double> delta0(nb, 0.0), delta_max(nb, 0.0);
+  std::size_t pre_samples = 0;
+  std::vector<double> overlap_sum, per_particle_f;
+  std::vector<int> contact_n;
+  const auto bin_of = [&](const Vec& x) -> long {
+    const int j = static_cast<int>(std::floor(x.y() / o.bin));
+    const int k = static_cast<int>(std::floor(x.z() / o.bin));
+    if (j < 0 || j >= ny || k < 0 || k >= nz) return -1;
+    return static_cast<long>(k) * ny + j;
+  };
+  std::vector<double> bin_f(nb), bin_d(nb);
+  std::vector<int> bin_n(nb);
+  const auto sample = [&](ChannelSim& s) {
+    const auto& p = s.particles();
+    const std::size_t n = p.owned();
+    overlap_sum.assign(n, 0.0);
+    contact_n.assign(n, 0);
+    for (const auto& c : s.recorded_contacts()) {
+      if (c.j == analysis::ContactRecord<Dim3>::kWall) continue;
+      if (c.i < n) {
+        overlap_sum[c.i] += c.overlap;
+        ++contact_n[c.i];
+      }
+      if (c.j < n) {
+        overlap_sum[c.j] += c.overlap;
+        ++contact_n[c.j];
+      }
+    }
+    std::fill(bin_f.begin(), bin_f.end(), 0.0);
+    std::fill(bin_d.begin(), bin_d.end(), 0.0);
+    std::fill(bin_n.begin(), bin_n.end(), 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (p.group[i] != 0) continue;
+      const long b = bin_of(p.x[i]);
+      if (b < 0) continue;
+      bin_f[b] += p.f[i].norm();
+      bin_d[b] += contact_n[i] ? overlap_sum[i] / contact_n[i] : 0.0;
+      ++bin_n[b];
+    }
+    for (std::size_t b = 0; b < nb; ++b) {
+      const double f = bin_n[b] ? bin_f[b] / bin_n[b] : 0.0;
+      const double d = bin_n[b] ? bin_d[b] / bin_n[b] : 0.0;
+      if (o.sensor_time <= 0.0 || s.time() - t0 <= o.sensor_time) {
+        force[b].time.push_back(s.time() - t0);
+        force[b].signal.push_back(f);
+      }
+      if (s.time() < t0 - 0.5 * dt) {
+        delta0[b] += d;  // summed over the pre-record, averaged below
+      } else {
+        delta_max[b] = std::max(delta_max[b], d);
+      }
+    }
+    if (s.time() < t0 - 0.5 * dt) ++pre_samples;
+  };
+  const auto every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(o.sample_interval / dt)));
+  // Columns for the bed height (001 section 2.8.2): 0.5 cm along y, the whole width in x.
+  const analysis::BinGrid<Dim3> columns(Vec(0, 0, 0), Vec(o.width, ny * o.bin, sim.config().domain.hi.z()),
+                                        Dim3::IVec(1, ny, 1));
+  const auto heights = [&]() {
+    std::vector<double> h(static_cast<std::size_t>(ny));
+    const auto ch = analysis::bed_height(sim.frame(), columns, 2);
+    for (int j = 0; j < ny; ++j) h[static_cast<std::size_t>(j)] = ch[static_cast<std::size_t>(j)].height;
+    return h;
+  };
+  std::vector<double> h_end(static_cast<std::size_t>(ny), 0.0);
+  int h_count = 0;
+  sim.request_contacts();
+  sim.step();
+  sample(sim);
+  sim.every(every, sample, true);
+  sim.run_until(t0);  // pre-record: the initial level of every sensor
+  const std::vector<double> h0 = heights();
+  if (o.bender) {
+    const double w = 2.0 * std::numbers::pi * o.bender_frequency;
+    sim.prescribe_group_velocity(piston_group, [=](double t) { return Vec(0, 0, v_p * std::cos(w * (t - t0))); });
+  } else {
+    auto& p = sim.particles();
+    for (std::size_t i = 0; i < p.owned(); ++i)
+      if (p.group[i] == piston_group) p.v[i] = Vec(0, v_p, 0);
+  }
+  io::ProgressReporter progress({.end_time = run_time, .mode = o.progress ? io::ProgressMode::On : io::ProgressMode::Off,
+                                 .interval = 5.0, .label = o.bender ? "bender" : "piston"});
+  bool released = !o.bender;
+  const std::uint64_t height_every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(2e-3 / dt)));
+  // Ceiling: particles lofted 3 cm below the top of the domain are removed (checked every
+  // 1 ms, which is safe below 30 m/s); 001 lets its domain grow instead (shrink-wrap ceiling).
+  const double ceiling = sim.config().domain.hi.z() - 0.03;
+  const std::uint64_t ceiling_every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(1e-3 / dt)));
+  while (sim.time() - t0 < run_time) {
+    sim.step();
+    if (sim.step_count() % ceiling_every == 0) res.ejected += scene::remove_above(sim, 2, ceiling);
+    if (!released && sim.time() - t0 >= 1.0 / o.bender_frequency - 0.5 * dt) {
+      sim.release_group(piston_group);  // one period of the bender
+      released = true;
+    }
+    progress.update(sim.step_count(), sim.time() - t0);
+    const double t = sim.time() - t0;
+    if (t > 2e-3) {
+      const auto& p = sim.particles();
+      for (std::size_t i = 0; i < p.owned(); ++i)
+        if (p.group[i] == 0) res.max_particle_speed = std::max(res.max_particle_speed, p.v[i].norm());
+    }
+    if (t > 0.8 * run_time && sim.step_count() % height_every == 0) {
+      const auto h = heights();
+      for (int j = 0; j < ny; ++j) h_end[static_cast<std::size_t>(j)] += h[static_cast<std::size_t>(j)];
+      ++h_count;
+    }
+  }
+  progress.finish(sim.step_count(), sim.time() - t0);
+  res.steps = sim.step_count();
+  res.particles = sim.particles().owned();
+
+  // Arrivals and front speeds per depth (001 section 2.8.3).
+  // Threshold: 10 x the bin's mean level over the pre-record (001 section 2.8.3).
+  res.arrival.assign(nb, std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t b = 0; b < nb; ++b) {
+    delta0[b] /= static_cast<double>(std::max<std::size_t>(1, pre_samples));
+    analysis::SensorSeries after;
+    double base = 0.0;
+    std::size_t nbase = 0;
+    for (std::size_t k = 0; k < force[b].time.size(); ++k) {
+      if (force[b].time[k] < -0.5 * dt) {
+        base += force[b].signal[k];
+        ++nbase;
+      } else {
+        after.time.push_back(force[b].time[k]);
+        after.signal.push_back(force[b].signal[k]);
+      }
+    }
+    if (nbase == 0 || base <= 0.0) continue;
+    analysis::ArrivalSettings as;
+    as.absolute_threshold = 10.0 * base / static_cast<double>(nbase);
+    if (const auto ta = analysis::arrival_time(after, as)) res.arrival[b] = *ta;
+  }
+  for (int k = 0; k < nz; ++k) {
+    std::vector<double> tt(res.arrival.begin() + static_cast<long>(k) * ny,
+                           res.arrival.begin() + static_cast<long>(k + 1) * ny);
+    const auto [cw, cwu] = detail::row_speed(res.y, tt, o.cw_from, o.cw_to);
+    const auto [cp, cpu] = detail::row_speed(res.y, tt, o.cp_from, o.cp_to);
+    res.c_w.push_back(cw);
+    res.c_w_u.push_back(cwu);
+    res.c_p.push_back(cp);
+    res.c_p_u.push_back(cpu);
+  }
+  detail::mean_sd(res.c_w, res.c_w_mean, res.c_w_sd);
+  detail::mean_sd(res.c_p, res.c_p_mean, res.c_p_sd);
+  // delta_m / delta_0 per column and the bed-height change.
+  std::vector<double> ratio_window, dz_window, d0_all;
+  for (int j = 0; j < ny; ++j) {
+    double dm = 0.0, d0 = 0.0;
+    int n = 0;
+    for (int k = 0; k < nz; ++k) {
+      const std::size_t b = static_cast<std::size_t>(k) * ny + j;
+      if (delta0[b] <= 0.0) continue;
+      dm += delta_max[b];
+      d0 += delta0[b];
+      d0_all.push_back(delta0[b]);
+      ++n;
+    }
+    res.delta_ratio.push_back(n ? dm / d0 : std::numeric_limits<double>::quiet_NaN());
+    const double hz = h_count ? h_end[static_cast<std::size_t>(j)] / h_count : std::numeric_limits<double>::quiet_NaN();
+    res.dz.push_back(hz - h0[static_cast<std::size_t>(j)]);
+    if (res.y[static_cast<std::size_t>(j)] >= o.cp_from && res.y[static_cast<std::size_t>(j)] <= o.cp_to) {
+      ratio_window.push_back(res.delta_ratio.back());
+      dz_window.push_back(res.dz.back());
+    }
+  }
+  double sd = 0.0;
+  detail::mean_sd(d0_all, res.delta_0, sd);
+  detail::mean_sd(ratio_window, res.delta_ratio_mean, sd);
+  detail::mean_sd(dz_window, res.dz_mean, res.dz_sd);
+  res.wall_seconds = detail::elapsed_since(t_wall);
+  return res;
+}
+
+}  // namespace granule::examples::lunar_shock
