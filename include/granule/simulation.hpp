@@ -153,6 +153,7 @@ class Simulation {
 
   /// Particles of `group` never move (e.g. the rough frozen floor of paper 001).
   void freeze_group(std::uint32_t group) {
+    list_valid_ = false;  // which pairs exist depends on the motion modes
     group_mode_resize(group);
     group_motion_[group] = Motion::Frozen;
     group_velocity_[group] = nullptr;
@@ -162,6 +163,7 @@ class Simulation {
 
   /// Particles of `group` move with velocity v(t) whatever the forces (virtual piston, shaker).
   void prescribe_group_velocity(std::uint32_t group, std::function<Vec(double)> velocity) {
+    list_valid_ = false;  // which pairs exist depends on the motion modes
     require(static_cast<bool>(velocity), "Simulation::prescribe_group_velocity", "velocity", 0.0,
             "a callable of time");
     group_mode_resize(group);
@@ -173,6 +175,7 @@ class Simulation {
 
   /// Particles of `group` move freely again.
   void release_group(std::uint32_t group) {
+    list_valid_ = false;  // which pairs exist depends on the motion modes
     group_mode_resize(group);
     group_motion_[group] = Motion::Free;
     group_velocity_[group] = nullptr;
@@ -184,6 +187,7 @@ class Simulation {
   template <class Pred>
   void assign_group(std::uint32_t group, Pred&& pred) {
     group_mode_resize(group);
+    list_valid_ = false;
     for (std::size_t i = 0; i < particles_.owned(); ++i)
       if (pred(i)) {
         particles_.group[i] = group;
@@ -226,7 +230,14 @@ class Simulation {
 
   /// One velocity-Verlet step.
   void step() {
-    if (!list_valid_ || !initialised_) initialise();
+    if (!list_valid_) {
+      initialise();
+    } else if (!initialised_) {
+      // Only the time step changed (set_dt): check it, keep the list and forces as they are so
+      // the trajectory is not perturbed by an extra rebuild.
+      check_time_step();
+      initialised_ = true;
+    }
     const double dt = config_.dt;
     const double half = 0.5 * dt;
     const double kick1 = Integrator::first_kick * dt;
@@ -478,6 +489,7 @@ class Simulation {
     update_group_velocities(time_);
     list_valid_ = true;
     initialised_ = true;
+    forces_ready_ = true;
   }
 
   /// Rebuilds the neighbour list now (normally automatic).
@@ -584,7 +596,18 @@ class Simulation {
     rebuild();
     update_group_velocities(time_);
     for (auto& b : bodies_) b.set_velocities(time_);
+    if (forces_ready_) {
+      // Mid-run change (particles or walls added or removed): the list is rebuilt but forces
+      // are not evaluated twice, which would advance every tangential spring a second time.
+      // New particles start with zero force for their first half kick.
+      initialised_ = true;
+      return;
+    }
+    forces_ready_ = true;
+    // A pending request_contacts() is for the coming step, not this set-up evaluation.
+    const bool pending = record_next_;
     compute_forces(contacts_wanted(step_) || record_next_);
+    record_next_ = pending;
     initialised_ = true;
   }
 
@@ -968,6 +991,7 @@ class Simulation {
   double skin_used_ = 0.0;
   bool list_valid_ = false;
   bool initialised_ = false;
+  bool forces_ready_ = false;
   bool parallel_ = false;
 };
 

@@ -261,9 +261,9 @@ class PairList {
     const std::size_t n = p.owned();
     row_begin.assign(n + 1, 0);
     auto pair_ok = [&](std::size_t i, std::size_t j) {
-      if (p.inv_mass[i] + p.inv_mass[j] == 0.0 && p.motion[i] == Motion::Frozen &&
-          p.motion[j] == Motion::Frozen)
-        return false;
+      // Two particles that contacts cannot move (frozen or prescribed) exert nothing on
+      // each other that matters; their effective mass would be infinite.
+      if (p.inv_mass[i] + p.inv_mass[j] == 0.0) return false;
       const double rc = p.radius[i] + p.radius[j] + skin;
       return (p.x[i] - p.x[j]).squaredNorm() < rc * rc;
     };

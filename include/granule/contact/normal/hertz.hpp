@@ -6,8 +6,9 @@
 //   gamma_n = -2 sqrt(5/6) beta sqrt(S_n m*),   S_n = 2 E* sqrt(R* delta),
 //   beta    = ln e / sqrt(ln^2 e + pi^2)
 // (000 eq. B2 prints 2*5/6 without the square root; 001 eq. A4 and LIGGGHTS use sqrt(5/6).)
-// The realised restitution is close to, but not exactly, e: tests/contact compare it with a
-// high-accuracy integration of the same one-contact ODE and report the offset from e.
+// With the force not clipped at zero, this damping realises the restitution e exactly, at any
+// impact speed (Antypov & Elliott 2011: gamma = sqrt(5) |beta| sqrt(m* k_H) delta^1/4 with
+// k_H = 4/3 E* sqrt(R*)); tests/contact check the engine against the one-contact ODE.
 #include <cmath>
 #include <numbers>
 

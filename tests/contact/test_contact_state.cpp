@@ -1,0 +1,93 @@
+// Per-contact history of the contact models: empty for stateless laws, one vector for the
+// tangential spring (plus one angular vector for EPSD rolling), and reverse() turning the
+// history of pair (i, j) into that of (j, i).
+#include <catch2/catch.hpp>
+
+#include <type_traits>
+
+#include "contact_test_support.hpp"
+
+using namespace granule;
+using namespace granule::contact_test;
+
+// Reference: contact/model.hpp and STYLE.md item 6 (State empty when stateless: the neighbour list
+// then stores no history at all).
+TEMPLATE_TEST_CASE("Contact model State: empty when stateless, one vector per spring", "[contact][state]", Dim2,
+                   Dim3) {
+  using D = TestType;
+  using Vec = typename D::Vec;
+  using AngVec = typename D::AngVec;
+  STATIC_REQUIRE(std::is_empty_v<contact::LinearFrictionless::State<D>>);
+  STATIC_REQUIRE(std::is_empty_v<contact::HertzFrictionless::State<D>>);
+  STATIC_REQUIRE(std::is_empty_v<
+                 contact::ContactModel<contact::HertzNormal, contact::NoTangential, contact::ConstantTorqueRolling,
+                                       contact::SjkrCohesion>::State<D>>);
+  STATIC_REQUIRE(!contact::HertzFrictionless::has_state<D>);
+  STATIC_REQUIRE(!contact::LinearFrictionless::has_state<D>);
+  STATIC_REQUIRE(sizeof(contact::HertzMindlin::State<D>) == sizeof(Vec));
+  STATIC_REQUIRE(sizeof(contact::HertzMindlinLegacy::State<D>) == sizeof(Vec));
+  STATIC_REQUIRE(sizeof(contact::LinearSpringDashpot::State<D>) == sizeof(Vec));
+  STATIC_REQUIRE(contact::HertzMindlin::has_state<D>);
+  // Vector + angular vector, padded to the vector's alignment (2D: 16 + 8 -> 32 bytes, since
+  // Eigen::Vector2d is 16-byte aligned; 3D: 24 + 24 = 48).
+  constexpr std::size_t epsd = (sizeof(Vec) + sizeof(AngVec) + alignof(Vec) - 1) / alignof(Vec) * alignof(Vec);
+  STATIC_REQUIRE(sizeof(contact::HertzMindlinEpsd::State<D>) == epsd);
+  STATIC_REQUIRE(sizeof(contact::HertzMindlinEpsdSjkr::State<D>) == epsd);
+}
+
+// Reference: history hooks (MercuryDPM reverseHistory; contact/tangential/history.hpp): the
+// tangential displacement and the rolling spring torque of (j, i) are minus those of (i, j).
+// Checked on the state, and physically: with the reversed history the swapped pair receives
+// exactly the opposite force and swapped torques (Newton's third law), to round-off.
+TEMPLATE_TEST_CASE("Contact model reverse(): history of (j, i) gives the opposite force", "[contact][state]", Dim2,
+                   Dim3) {
+  using D = TestType;
+  using Vec = typename D::Vec;
+  using AngVec = typename D::AngVec;
+  using Model = contact::HertzMindlinEpsd;
+  Material mat;
+  mat.youngs_modulus = 1.0e7;
+  mat.poisson_ratio = 0.3;
+  mat.density = 2500.0;
+  mat.restitution = 0.7;
+  mat.friction = 5.0;  // no sliding: the spring history is exercised
+  mat.rolling_friction = 0.5;
+  mat.rolling_damping = 0.2;
+  const auto prm = Model::make(mix(mat, mat));
+  const double ri = 2.0e-3, rj = 1.0e-3, mi = 8.0e-5, mj = 1.0e-5, dt = 1.0e-6;
+  Vec xi = Vec::Zero();
+  xi[0] = 2.9e-3;
+  xi[D::dim - 1] = 0.3e-3;
+  const Vec xj = Vec::Zero();
+  Vec vi = Vec::Zero(), vj = Vec::Zero();
+  vi[D::dim - 1] = 0.05;
+  vj[0] = -0.01;
+  AngVec wi, wj;
+  if constexpr (D::dim == 2) {
+    wi = 3.0;
+    wj = -1.0;
+  } else {
+    wi = Eigen::Vector3d(1.0, -2.0, 3.0);
+    wj = Eigen::Vector3d(0.5, 0.0, -1.0);
+  }
+  const auto gij = make_pair_geometry<D>(xi, xj, ri, rj, mi, mj, vi, vj, wi, wj, dt);
+  const auto gji = make_pair_geometry<D>(xj, xi, rj, ri, mj, mi, vj, vi, wj, wi, dt);
+  typename Model::template State<D> sij{};
+  for (int k = 0; k < 10; ++k) Model::evaluate(prm, gij, sij);
+  REQUIRE(sij.tangential.xi.norm() > 0.0);
+  REQUIRE(D::norm(sij.rolling.m_spring) > 0.0);
+  auto sji = sij;
+  Model::reverse(sji);
+  CHECK((sji.tangential.xi + sij.tangential.xi).norm() == 0.0);
+  CHECK(D::norm(sji.rolling.m_spring + sij.rolling.m_spring) == 0.0);
+  const auto fij = Model::evaluate(prm, gij, sij);
+  const auto fji = Model::evaluate(prm, gji, sji);
+  const double scale = fij.force.norm();
+  CHECK((fji.force + fij.force).norm() <= 1e-12 * scale);
+  CHECK(D::norm(fji.torque_i - fij.torque_j) <= 1e-12 * D::norm(fij.torque_j));
+  CHECK(D::norm(fji.torque_j - fij.torque_i) <= 1e-12 * D::norm(fij.torque_i));
+  // Without reversing, the swapped pair would get a wrong tangential force.
+  auto wrong = sij;
+  const auto fbad = Model::evaluate(prm, gji, wrong);
+  CHECK((fbad.force + fij.force).norm() > 1e-3 * scale);
+}

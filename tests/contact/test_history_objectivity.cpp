@@ -1,0 +1,163 @@
+// Objectivity of the tangential spring history (STYLE.md item 11): a loaded contact rotated
+// rigidly -- both particles turning together as one rigid body -- must keep its tangential force
+// in the rotated frame: same magnitude, rotated direction. HistoryRotation::ProjectKeepLength does
+// this; HistoryRotation::Project loses length cos(dtheta) per step.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Geometry>
+
+#include "contact_test_support.hpp"
+
+using namespace granule;
+using namespace granule::contact_test;
+
+namespace {
+
+Material spring_material() {
+  Material m;
+  m.youngs_modulus = 1.0e7;  // [Pa]
+  m.poisson_ratio = 0.3;
+  m.density = 2500.0;
+  m.restitution = 1.0;       // no dashpot: only the spring acts
+  m.friction = 10.0;         // no sliding
+  m.normal_stiffness = 2.0e3;  // [N/m] (linear laws)
+  return m;
+}
+
+// Rotation by angle phi: about z in 2D, about the unit axis `a` in 3D.
+template <class D>
+typename D::Mat rotation(double phi, const Eigen::Vector3d& a) {
+  if constexpr (D::dim == 2) {
+    return Eigen::Rotation2Dd(phi).toRotationMatrix();
+  } else {
+    return Eigen::AngleAxisd(phi, a).toRotationMatrix();
+  }
+}
+
+template <class D>
+typename D::AngVec spin(double omega, const Eigen::Vector3d& a) {
+  if constexpr (D::dim == 2) {
+    return omega;
+  } else {
+    return omega * a;
+  }
+}
+
+struct Rotated {
+  Eigen::VectorXd ft0;  ///< tangential force before the rotation
+  Eigen::VectorXd ft;   ///< after
+  Eigen::VectorXd expected;  ///< R ft0
+};
+
+// Loads the spring of a pair of equal spheres (normal x, relative tangential motion along y),
+// then turns the pair rigidly by `angle` about `axis` (through the midpoint) in `steps` steps:
+// x_i = R (d/2) e_x, x_j = -x_i, v = Omega x (x - c), omega_i = omega_j = Omega. This motion has
+// no relative velocity at the contact point and no relative rotation.
+template <class D, class Model>
+Rotated rotate_loaded_contact(double angle, const Eigen::Vector3d& axis, int steps) {
+  using Vec = typename D::Vec;
+  const auto prm = Model::make(mix(spring_material(), spring_material()));
+  typename Model::template State<D> st{};
+  const double r = 2.0e-3, m = 8.0e-5, overlap = 2.0e-5, d = 2.0 * r - overlap;
+  const Vec xi0 = 0.5 * d * unit<D>(0);
+  const double u = 0.01, dt_load = 1.0e-6;  // [m/s], [s]
+  const auto gl = make_pair_geometry<D>(xi0, Vec(-xi0), r, r, m, m, Vec(0.5 * u * unit<D>(1)),
+                                        Vec(-0.5 * u * unit<D>(1)), D::zero_ang(), D::zero_ang(), dt_load);
+  contact::ContactForce<D> f;
+  for (int k = 0; k < 20; ++k) f = Model::evaluate(prm, gl, st);
+  Rotated out;
+  out.ft0 = f.ft;
+  const double omega = 10.0;  // [rad/s]
+  const double dt = angle / (steps * omega);
+  for (int k = 1; k <= steps; ++k) {
+    const typename D::Mat R = rotation<D>(k * angle / steps, axis);
+    const Vec xi = R * xi0, xj = -xi;
+    const auto w = spin<D>(omega, axis);
+    const auto g = make_pair_geometry<D>(xi, xj, r, r, m, m, D::cross(w, xi), D::cross(w, xj), w, w, dt);
+    REQUIRE(g.vt.norm() <= 1e-12 * u);
+    f = Model::evaluate(prm, g, st);
+  }
+  out.ft = f.ft;
+  out.expected = rotation<D>(angle, axis) * Vec(out.ft0);
+  return out;
+}
+
+using MindlinProject =
+    contact::ContactModel<contact::HertzNormal,
+                          contact::SpringTangential<contact::MindlinStiffness, contact::Truncation::Total,
+                                                    contact::HistoryRotation::Project>>;
+
+}  // namespace
+
+// Reference: frame indifference of the contact law (Luding 2008, Granular Matter 10, 235,
+// section 2.2.3: the spring is rotated with the contact, not shortened; STYLE.md item 11). A
+// rigid rotation by 90 deg about an axis perpendicular to the normal and to the spring (2D: the
+// only rotation; 3D: z) is reproduced exactly by projection + length restoration at every step:
+// tolerance 1e-10 on magnitude and direction (round-off of the rigid-body velocities, ~1e-16 of
+// the step displacement, accumulates to ~1e-12 of the spring; a lost cos(dtheta) per step would be
+// 6e-2). About a 3D axis perpendicular to the normal only
+// ((0, 0.6, 0.8)) the per-step projection is exact to first order in the step angle; tolerance
+// 2e-3 with 1000 steps (the error is O(angle x step angle); measured 6e-4). Checked for the
+// Hertz-Mindlin, linear and incremental-Coulomb springs.
+TEMPLATE_TEST_CASE("Tangential history is objective under rigid rotation (ProjectKeepLength)",
+                   "[contact][objectivity]", Dim2, Dim3) {
+  using D = TestType;
+  const double angle = std::numbers::pi / 2.0;
+  const Eigen::Vector3d z(0.0, 0.0, 1.0);
+  auto check_exact = [](const Rotated& res) {
+    INFO("ft0 = " << res.ft0.transpose() << ", ft = " << res.ft.transpose() << ", R ft0 = " << res.expected.transpose()
+                  << "; rel. magnitude error " << res.ft.norm() / res.ft0.norm() - 1.0 << ", rel. direction error "
+                  << (res.ft - res.expected).norm() / res.ft0.norm());
+    CHECK(res.ft0.norm() > 0.0);
+    CHECK(res.ft.norm() == Approx(res.ft0.norm()).epsilon(1e-10));
+    CHECK((res.ft - res.expected).norm() <= 1e-10 * res.ft0.norm());
+  };
+  check_exact(rotate_loaded_contact<D, contact::HertzMindlin>(angle, z, 20));
+  check_exact(rotate_loaded_contact<D, contact::LinearSpringDashpot>(angle, z, 20));
+  check_exact(rotate_loaded_contact<D, contact::LinearCoulombRolling>(angle, z, 20));
+  if constexpr (D::dim == 3) {
+    const Eigen::Vector3d a(0.0, 0.6, 0.8);
+    const auto res = rotate_loaded_contact<D, contact::HertzMindlin>(angle, a, 1000);
+    INFO("axis (0, 0.6, 0.8): ft = " << res.ft.transpose() << ", R ft0 = " << res.expected.transpose());
+    CHECK(res.ft.norm() == Approx(res.ft0.norm()).epsilon(1e-10));
+    CHECK((res.ft - res.expected).norm() <= 2e-3 * res.ft0.norm());
+  }
+}
+
+// Reference: projection without length restoration shortens the spring by cos(dtheta) per step
+// (LAMMPS hooke/history behaviour; history.hpp): after N steps of a rigid in-plane rotation by
+// Theta, |F_t| = |F_t0| cos(Theta/N)^N (= 0.9403 for Theta = 90 deg, N = 20), direction still
+// rotated. Tolerance 1e-10 (round-off as above).
+TEMPLATE_TEST_CASE("Tangential history with HistoryRotation::Project shrinks by cos(dtheta) per step",
+                   "[contact][objectivity]", Dim2, Dim3) {
+  using D = TestType;
+  const double angle = std::numbers::pi / 2.0;
+  const int n = 20;
+  const auto res = rotate_loaded_contact<D, MindlinProject>(angle, Eigen::Vector3d(0.0, 0.0, 1.0), n);
+  const double shrink = std::pow(std::cos(angle / n), n);
+  INFO("|ft|/|ft0| = " << res.ft.norm() / res.ft0.norm() << " (expected " << shrink << ")");
+  CHECK(res.ft.norm() / res.ft0.norm() == Approx(shrink).epsilon(1e-10));
+  CHECK((res.ft / res.ft.norm() - res.expected / res.expected.norm()).norm() <= 1e-10);
+}
+
+// ENGINE LIMITATION (reported in /work/notes/contact_tests_report.md, issue T3).
+// Reference: frame indifference, as above, for a rigid rotation about the contact normal (3D
+// only): both particles spin together about the line of centres, so nothing moves relative to
+// the contact and the tangential force must turn with the pair. The history is only projected
+// (history.hpp, project_history), which cannot see a rotation about n (omega x n = 0, v_t = 0),
+// so the force stays fixed in space: after 90 deg it is perpendicular to where it should be.
+// Proposed fix: after the projection, also turn the history about n by the mean twist angle
+// 0.5 (omega_i + omega_j) . n dt (for a wall: 0.5 (omega_i + Omega_wall) . n dt), which needs the
+// mean spin in ContactGeometry (only omega_rel is there now). LAMMPS and LIGGGHTS share this
+// limitation.
+TEST_CASE("Tangential history is objective under rigid rotation about the contact normal",
+          "[contact][objectivity][!mayfail]") {
+  const Eigen::Vector3d n0(1.0, 0.0, 0.0);
+  const auto res = rotate_loaded_contact<Dim3, contact::HertzMindlin>(std::numbers::pi / 2.0, n0, 20);
+  INFO("ft0 = " << res.ft0.transpose() << ", ft = " << res.ft.transpose() << ", R ft0 = " << res.expected.transpose());
+  CHECK(res.ft.norm() == Approx(res.ft0.norm()).epsilon(1e-10));
+  CHECK((res.ft - res.expected).norm() <= 1e-9 * res.ft0.norm());
+}
