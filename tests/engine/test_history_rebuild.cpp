@@ -7,9 +7,13 @@
 // keep their order; a VerletList run with a small skin rebuilds and re-sorts often. With
 // correct history transfer both integrate the same equations and differ only by the order in
 // which each particle's contact forces are summed: a relative round-off of ~1e-16 per step,
-// amplified by the contact dynamics. Over 1000 steps of a dense damped pile we measure
-// differences of at most ~1e-13 of the particle radius and require < 1e-10 r; a single lost
-// history (a spring reset at one rebuild, the control run below) moves particles by >1e-6 r.
+// amplified by the contact dynamics. A dense granular system is chaotic: in a pile that is still
+// compacting, or sheared hard, we measured that difference to grow e-fold every 30-40 steps
+// (1e-16 -> 1e-7 r in 1000 steps), so no round-off tolerance can hold there. The scene below is
+// therefore a settled pile dragged gently by its floor (quasi-rigid motion with slow
+// rearrangements): over 1000 steps the measured difference stays below ~2e-12 r, and we require
+// < 1e-10 r at every step. A single lost history (every spring reset once, the control run
+// below) moves particles by 1e-2 .. 1e-1 r, so the test is sensitive to it by ten decades.
 #include <catch2/catch.hpp>
 
 #include <map>
@@ -26,7 +30,7 @@ template <class D>
 using Traj = std::vector<std::vector<typename D::Vec>>;
 
 // Dense frictional pile: particles poured at random into a container under strong gravity and
-// settled once (BruteForce, 2500 steps); the comparison runs start from the settled positions at
+// settled once (LinkedCells, 2500 steps); the comparison runs start from the settled positions at
 // rest, with the floor (a plane on a body) sliding along x at V = a t so that friction drags the
 // pile: sustained tangential loading, rearrangements, and with periodic x, contacts crossing the
 // periodic faces. Box variant: fixed plane side walls; periodic variant: periodic along x (and z).
@@ -211,7 +215,6 @@ namespace {
 // of the shifted initial positions.
 template <class D>
 void check_shift_invariance() {
-  using Vec = typename D::Vec;
   const PileSetup<D> setup(true);
   PileSetup<D> shifted = setup;
   const double shift = 0.37 * setup.dom.length()[0];
@@ -227,7 +230,6 @@ void check_shift_invariance() {
               << b_stats.ghost_flips << "; max |dx|/r " << d / kR);
   CHECK(a_stats.ghost_flips + b_stats.ghost_flips >= 5);
   CHECK(d < 1e-10 * kR);
-  (void)Vec::Zero();
 }
 
 }  // namespace
