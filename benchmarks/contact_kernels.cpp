@@ -14,7 +14,8 @@
 //
 // Reported: items_per_second = contact evaluations per second (CPU time); time_per_contact =
 // its inverse.
-// Arguments: batch size (number of geometries; the working set of 4096 fits in L2).
+// Argument: evaluations per iteration (half as many distinct contacts, each evaluated forward
+// and reversed); 4096 means about 0.8 MB of geometries and history, 65536 about 13 MB.
 #include <benchmark/benchmark.h>
 
 #include <cmath>

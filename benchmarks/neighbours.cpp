@@ -10,15 +10,15 @@
 // E = 5 MPa, nu = 0.3, rho = 1100 kg/m^3, e = 0.2, mu = 0.5, dt = 5e-6 s), contact model
 // contact::HertzMindlin; skins are given in % of d = 2 mm.
 //
-//   rebuild/<search>/skin_over_d:<s>/threads:<t>
+//   rebuild/<search>/skin_pct_d:<s>/threads:<t>     (skin = s % of d)
 //       one Simulation::rebuild() (spatial sort, ghosts, rows, history transfer, layer split) on
 //       the packing at rest in a closed box without walls; items = particles, so
 //       time_per_particle is the build cost per particle.
-//   step_vs_skin/<search>/skin_over_d:<s>
+//   step_vs_skin/<search>/skin_pct_d:<s>/threads:1
 //       a 400-step run of the same packing in a fully periodic box (no gravity, no walls), every
-//       particle drifting at
-//       0.2 m/s along (1,1,1)/sqrt(3) plus random velocities of 0.01 m/s rms (a gently moving
-//       bed: the drift sets how often the Verlet list must be rebuilt, 1e-6 m per step).
+//       particle drifting at 0.2 m/s along (1,1,1)/sqrt(3) plus random velocities of 0.01 m/s
+//       rms (a gently moving bed: the drift, 1e-6 m per step, sets how often the Verlet list
+//       must be rebuilt).
 //       items = particle-steps; counters: rebuilds in the run, list entries and contacts per
 //       particle. The skin trades list length (pair-loop work every step) against rebuild
 //       frequency; LinkedCells is the skin-0, rebuild-every-step end of that trade.
