@@ -256,3 +256,43 @@ TEMPLATE_TEST_CASE("set_dt with the same time step leaves the trajectory bitwise
   INFO("max |dx| = " << d / kR << " r");
   CHECK(d == 0.0);
 }
+
+// ENGINE BUG (see /work/notes/engine_tests_report.md, "set-up evaluation"): Simulation::initialise()
+// evaluates the forces once before the first step through the same process_layer() as a step,
+// and Model::evaluate() adds v_t dt to every tangential spring; the first step adds it again, so
+// after step 1 the spring (and F_t) is twice the correct value (measured ratio 1.996).
+// The set-up force evaluation (before the first step) must not advance tangential springs: a
+// contact that exists at t = 0 has no recorded history, so after the first step its spring is
+// one increment, xi_1 = v_t dt. Reference: a sphere pressed on a frictional plane (overlap 0.6 um)
+// and sliding tangentially at u, undamped (e = 1) and sticking (mu = 1): the first half kick
+// does not change the tangential velocity (no tangential force yet), so the recorded tangential
+// force after step 1 is |F_t| = k_t u dt, k_t = 8 G* sqrt(R* delta_1) (Mindlin 1949; 000 eq. B3),
+// with delta_1 the recorded overlap. (LAMMPS likewise skips history updates during set-up:
+// fix_wall_gran.cpp, "do not update history during setup".)
+TEMPLATE_TEST_CASE("The set-up force evaluation does not advance tangential springs",
+                   "[engine][history][!mayfail]", Dim2, Dim3) {
+  using Vec = typename TestType::Vec;
+  SimulationConfig<TestType> cfg;
+  cfg.domain.hi = Vec::Constant(0.02);
+  cfg.dt = 1e-5;
+  cfg.thickness = 1e-3;
+  cfg.gravity[1] = -9.81;
+  Simulation<TestType, contact::HertzMindlin> sim(cfg);
+  const Material m = test::soft_material(1.0, 1.0);
+  const auto mat = sim.add_material(m);
+  const auto wmat = sim.add_wall_material(m);
+  sim.add_wall(geometry::PlaneShape<TestType>(Vec::Zero(), Vec::Unit(1)), wmat);
+  Vec x = Vec::Constant(0.01);
+  x[1] = kR - 0.6e-6;
+  const double u = 0.01;  // [m/s]
+  sim.add_particle(x, kR, mat, Vec(u * Vec::Unit(0)));
+  sim.request_contacts();
+  sim.step();
+  const auto fr = sim.frame();
+  REQUIRE(fr.contacts.size() == 1);
+  const auto& c = fr.contacts[0];
+  const double kt = 8.0 * mix(m, m).G_eff * std::sqrt(kR * c.overlap);
+  INFO("|F_t| = " << c.ft.norm() << " N, k_t u dt = " << kt * u * cfg.dt << " N");
+  CHECK(c.ft.norm() == Approx(kt * u * cfg.dt).epsilon(1e-9));
+  CHECK(c.ft[0] < 0.0);  // opposes the sliding
+}
