@@ -27,7 +27,8 @@ usage: ./granule.sh <command> [arguments]
                                deps + build with ASan/UBSan (-O1 -g) in build-sanitize/ + ctest
   run [example args...]        deps + build + run the main example ($MAIN_EXAMPLE) in out/<name>/
   bench [benchmark args...]    deps + build with benchmarks and -march=native in build-bench/,
-                               then run every benchmark (arguments go to the Google Benchmark ones)
+                               then run every Google Benchmark program with these arguments
+                               (the scene_* programs are built and listed; they need arguments)
   help                         this text
 
 Environment: GRANULE_JOBS sets the number of parallel compile jobs (default: all cores).
@@ -142,22 +143,26 @@ cmd_bench() {
     -DGRANULE_BUILD_TESTS=OFF -DGRANULE_BUILD_EXAMPLES=OFF
   mkdir -p "$ROOT/out/bench"
   cd "$ROOT/out/bench"
-  local source name exe count=0
+  local source name exe count=0 scenes=()
   for source in "$ROOT"/benchmarks/*.cpp; do
     [[ -e $source ]] || continue
     name="$(basename "$source" .cpp)"
     exe="$ROOT/build-bench/benchmarks/bench_$name"
     [[ -x $exe ]] || die "$exe was not built (is Google Benchmark installed?)"
-    say "running bench_$name"
     if [[ $name == scene_* ]]; then
-      "$exe"
-    else
-      "$exe" "$@"
+      scenes+=("$exe")
+      continue
     fi
+    say "running bench_$name"
+    "$exe" "$@"
     count=$((count + 1))
   done
   if ((count == 0)); then
-    say "benchmarks/ holds no benchmark programs yet"
+    say "benchmarks/ holds no Google Benchmark programs yet"
+  fi
+  if ((${#scenes[@]} > 0)); then
+    say "scene programs take their own arguments (see benchmarks/README.md) and were not run:"
+    printf '  %s\n' "${scenes[@]}" >&2
   fi
 }
 

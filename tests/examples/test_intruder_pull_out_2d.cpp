@@ -40,9 +40,17 @@ TEST_CASE("intruder pull-out 2d: positive, fluctuating drag", "[examples]") {
   CHECK(r.mean_drag > 0.2 * column);
   CHECK(r.mean_drag < 10.0 * column);
   CHECK(r.std_drag > 0.2 * r.mean_drag);
-  // Friction mobilisation is a fraction in [0, 1] in the bulk.
+  // Friction mobilisation is a fraction in [0, 1] in the bulk. In this bed of ~70 disks the
+  // layer above the rising intruder is lifted and briefly loses nearly every contact (measured:
+  // 0-4 contacts in the whole bed for a few samples near 0.5 h); such a sample has no bulk mu*
+  // (NaN by definition in force_network.hpp), so only samples with bulk contacts are checked,
+  // and most samples must have them.
+  std::size_t with_bulk = 0;
   for (const auto& x : r.samples) {
+    if (std::isnan(x.mu_star_bulk)) continue;
+    ++with_bulk;
     CHECK(x.mu_star_bulk >= 0.0);
     CHECK(x.mu_star_bulk <= 1.0 + 1e-9);
   }
+  CHECK(with_bulk >= (8 * r.samples.size()) / 10);
 }
