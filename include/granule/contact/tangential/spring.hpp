@@ -1,25 +1,48 @@
 #pragma once
 // Tangential spring-dashpot with history and a Coulomb limit (Cundall & Strack 1979).
 //
-//   xi  <- project(xi, n) + v_t dt                 (history: tangential displacement [m])
-//   F_t = -k_t xi - gamma_t v_t,      |F_t| <= mu_s |F_n|
+//   F_t = F_s - gamma_t v_t,      |F_t| <= mu_s |F_n|
 //
 // Stiffness policies:
 //   MindlinStiffness: k_t = 8 G* sqrt(R* delta),  gamma_t = -2 sqrt(5/6) beta sqrt(S_t m*),
 //                     S_t = 8 G* sqrt(R* delta)   (000 eq. B3-B6, 001 eq. A9-A11; Mindlin 1949)
 //   LinearStiffness:  k_t = r k_n (r = tangential_stiffness_ratio, 2/7 by default so normal and
 //                     tangential periods match for solid spheres), gamma_t = 2 xi sqrt(m* k_t).
-// Truncation (what the Coulomb limit acts on) is an explicit choice:
-//   Truncation::Total      the total force (spring + damping) is limited to mu |F_n| and the
-//                          spring is reset so that -k_t xi - gamma_t v_t equals the limited
-//                          force: the correction of paper 001 section 2.2 (as LAMMPS granular).
-//   Truncation::SpringOnly legacy LIGGGHTS 3.8: only |k_t xi| is compared with mu |F_n|; when
-//                          sliding the spring is rescaled and damping dropped, when sticking
-//                          spring + damping may exceed the limit (001 section 2.2).
-// HistoryRotation chooses whether projection keeps the spring length (see history.hpp).
+//
+// How the spring force F_s is carried from step to step (SpringHistory):
+//   IncrementalForce   the spring force is the history and only its increment sees the current
+//                      stiffness (Thornton, Cummins & Cleary 2013, Powder Technol. 233, eq. 18;
+//                      LAMMPS granular "mindlin/force"):
+//                        F_s <- R(F_s) - k_t v_t dt,
+//                      and when the stiffness falls (unloading: the contact area shrinks) the
+//                      carried force is first scaled with it, F_s <- F_s k_t / k_t,old, which keeps
+//                      the elastic displacement F_s / k_t (LAMMPS "mindlin/rescale/force"). Stored
+//                      energy |F_s|^2 / (2 k_t). With E = |F_s|^2/(2 k_t) and P = -F_s . v_t the
+//                      power the relative motion puts into the spring,
+//                        dE/dt - P = -|k_t'| |F_s|^2 / (2 k_t^2) <= 0
+//                      when loading (no rescale) and when unloading (with the rescale): the spring
+//                      is passive. State: F_s and k_t,old (the stiffness of the last step).
+//   TotalDisplacement  the total tangential displacement is the history, xi <- R(xi) + v_t dt,
+//                      F_s = -k_t xi. Exact for a constant k_t (LinearStiffness, and its smaller
+//                      state). With the Mindlin k_t(delta) it creates energy while the contact
+//                      loads, dE/dt - P = k_t' |xi|^2 / 2 > 0 (the path-dependence problem of
+//                      Elata & Berryman 1996; tests/contact measure +2.6 % of the impact energy at
+//                      25 deg): kept only as the LIGGGHTS 3.8 behaviour (MindlinTangentialLegacy).
+// R is how the history follows the contact frame (HistoryRotation, history.hpp):
+//   ProjectKeepLength       projection onto the new tangent plane, previous length restored.
+//                           Default.
+//   Project                 plain projection, the spring shortens (LAMMPS hooke/history).
+// Truncation (what the Coulomb limit acts on):
+//   Total       the total force (spring + damping) is limited to mu |F_n| and the spring is
+//               reset so that spring + damping equals the limited force: the correction of
+//               paper 001 section 2.2 (as LAMMPS granular).
+//   SpringOnly  legacy LIGGGHTS 3.8: only |F_s| is compared with mu |F_n|; when sliding the
+//               spring is rescaled to the limit and damping dropped, when sticking spring +
+//               damping may exceed the limit (001 section 2.2).
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <type_traits>
 
 #include "granule/contact/geometry.hpp"
 #include "granule/contact/tangential/history.hpp"
@@ -28,9 +51,12 @@ namespace granule::contact {
 
 enum class Truncation { Total, SpringOnly };
 enum class HistoryRotation { ProjectKeepLength, Project };
+enum class SpringHistory { IncrementalForce, TotalDisplacement };
 
 struct MindlinStiffness {
   static std::string signature() { return "Mindlin"; }
+  /// k_t changes with the overlap: only the force form is energy consistent.
+  static constexpr SpringHistory default_history = SpringHistory::IncrementalForce;
   struct Params {
     double G_eff = 0.0;    ///< [Pa]
     double damping = 0.0;  ///< -2 sqrt(5/6) beta [-]
@@ -50,6 +76,8 @@ struct MindlinStiffness {
 
 struct LinearStiffness {
   static std::string signature() { return "Linear"; }
+  /// Constant k_t: the displacement form is exact and needs no stored stiffness.
+  static constexpr SpringHistory default_history = SpringHistory::TotalDisplacement;
   struct Params {
     double k_t = 0.0;  ///< [N/m]
     double xi = 0.0;   ///< damping ratio [-]
@@ -66,11 +94,29 @@ struct LinearStiffness {
   }
 };
 
+template <class D>
+struct SpringForceState {
+  typename D::Vec fs = D::zero();  ///< spring force on i [N]
+  double kt_old = 0.0;             ///< k_t of the last step [N/m] (0: new contact)
+};
+
+template <class D>
+struct SpringDisplacementState {
+  typename D::Vec xi = D::zero();  ///< total tangential spring displacement [m]
+};
+
 template <class Stiffness, Truncation Trunc = Truncation::Total,
-          HistoryRotation Rot = HistoryRotation::ProjectKeepLength>
+          HistoryRotation Rot = HistoryRotation::ProjectKeepLength,
+          SpringHistory History = Stiffness::default_history>
 struct SpringTangential {
+  static constexpr bool force_history = History == SpringHistory::IncrementalForce;
+
+  /// Checkpoints carry this name. A token changes whenever the update it names changes, so
+  /// that older checkpoints of a changed law are refused: the force form adds
+  /// ",IncrementalForce" (the displacement form adds nothing, so checkpoints of the unchanged
+  /// displacement-form laws still load).
   static std::string signature() {
-    return "SpringTangential<" + Stiffness::signature() +
+    return "SpringTangential<" + Stiffness::signature() + (force_history ? ",IncrementalForce" : "") +
            (Trunc == Truncation::Total ? ",Total" : ",SpringOnly") +
            (Rot == HistoryRotation::ProjectKeepLength ? ",KeepLength>" : ",Project>");
   }
@@ -79,58 +125,99 @@ struct SpringTangential {
     double mu_s = 0.0;  ///< [-]
   };
   template <class D>
-  struct State {
-    typename D::Vec xi = D::zero();  ///< tangential spring displacement [m]
-  };
+  struct State : std::conditional_t<force_history, SpringForceState<D>, SpringDisplacementState<D>> {};
   static Params make(const PairMaterial& p) { return {Stiffness::make(p), p.mu_s}; }
+
+  /// The history follows the contact frame (R above).
+  template <class D>
+  static void follow_contact(typename D::Vec& x, const ContactGeometry<D>& g) {
+    project_history(x, g.n, Rot == HistoryRotation::ProjectKeepLength);
+  }
 
   template <class D>
   static typename D::Vec eval(const Params& p, const ContactGeometry<D>& g, const NormalResult& nr,
                               State<D>& s) {
     using Vec = typename D::Vec;
-    project_history(s.xi, g.n, Rot == HistoryRotation::ProjectKeepLength);
-    s.xi += g.vt * g.dt;
     double gamma_t = 0.0;
     const double kt = Stiffness::eval(p.stiffness, g, nr, gamma_t);
     const double limit = p.mu_s * std::abs(nr.fn);
-    const Vec spring = -kt * s.xi;
     const Vec damp = -gamma_t * g.vt;
-    if constexpr (Trunc == Truncation::Total) {
-      Vec ft = spring + damp;
-      const double f2 = ft.squaredNorm();
-      if (f2 > limit * limit) {
-        ft *= limit / std::sqrt(f2);
-        s.xi = kt > 0.0 ? Vec(-(ft - damp) / kt) : Vec(D::zero());
+    if constexpr (force_history) {
+      follow_contact<D>(s.fs, g);
+      if (kt < s.kt_old) s.fs *= kt / s.kt_old;  // unloading: keep F_s / k_t
+      s.kt_old = kt;
+      s.fs -= (kt * g.dt) * g.vt;
+      if constexpr (Trunc == Truncation::Total) {
+        Vec ft = s.fs + damp;
+        const double f2 = ft.squaredNorm();
+        if (f2 > limit * limit) {
+          ft *= limit / std::sqrt(f2);
+          s.fs = ft - damp;
+        }
+        return ft;
+      } else {
+        const double f2 = s.fs.squaredNorm();
+        if (f2 > limit * limit) {
+          s.fs *= limit / std::sqrt(f2);
+          return s.fs;
+        }
+        return s.fs + damp;
       }
-      return ft;
     } else {
-      const double f2 = spring.squaredNorm();
-      if (f2 > limit * limit) {
-        const double ratio = limit / std::sqrt(f2);
-        s.xi *= ratio;
-        return spring * ratio;
+      follow_contact<D>(s.xi, g);
+      if constexpr (Trunc == Truncation::Total) {
+        s.xi += g.vt * g.dt;
+        Vec ft = -kt * s.xi + damp;
+        const double f2 = ft.squaredNorm();
+        if (f2 > limit * limit) {
+          ft *= limit / std::sqrt(f2);
+          s.xi = kt > 0.0 ? Vec(-(ft - damp) / kt) : Vec(D::zero());
+        }
+        return ft;
+      } else {
+        s.xi += g.vt * g.dt;
+        const Vec spring = -kt * s.xi;
+        const double f2 = spring.squaredNorm();
+        if (f2 > limit * limit) {
+          const double ratio = limit / std::sqrt(f2);
+          s.xi *= ratio;
+          return spring * ratio;
+        }
+        return spring + damp;
       }
-      return spring + damp;
     }
   }
-  /// Energy stored in the tangential spring, k_t |xi|^2 / 2 [J].
+  /// Energy stored in the tangential spring, |F_s|^2 / (2 k_t) = k_t |xi|^2 / 2 [J].
   template <class D>
   static double energy(const Params& p, const ContactGeometry<D>& g, const NormalResult& nr,
                        const State<D>& s) {
     double gamma_t = 0.0;
-    return 0.5 * Stiffness::eval(p.stiffness, g, nr, gamma_t) * s.xi.squaredNorm();
+    const double kt = Stiffness::eval(p.stiffness, g, nr, gamma_t);
+    if constexpr (force_history) {
+      return kt > 0.0 ? 0.5 * s.fs.squaredNorm() / kt : 0.0;
+    } else {
+      return 0.5 * kt * s.xi.squaredNorm();
+    }
   }
   template <class D>
   static void reverse(State<D>& s) {
-    reverse_history(s.xi);
+    if constexpr (force_history) {
+      reverse_history(s.fs);  // k_t,old is the same seen from either side
+    } else {
+      reverse_history(s.xi);
+    }
   }
 };
 
-/// Hertz-Mindlin tangential spring, corrected truncation (001 section 2.2).
-using MindlinTangential = SpringTangential<MindlinStiffness, Truncation::Total>;
-/// Hertz-Mindlin tangential spring as in LIGGGHTS 3.8 (limit on the spring force only).
-using MindlinTangentialLegacy = SpringTangential<MindlinStiffness, Truncation::SpringOnly>;
-/// Linear tangential spring-dashpot with Coulomb limit.
-using LinearTangential = SpringTangential<LinearStiffness, Truncation::Total>;
+/// Hertz-Mindlin tangential spring: force history with unloading rescale, corrected truncation
+/// (001 section 2.2).
+using MindlinTangential = SpringTangential<MindlinStiffness>;
+/// Hertz-Mindlin tangential spring as in LIGGGHTS 3.8: displacement history F_s = -k_t(delta) xi,
+/// limit on the spring force only.
+using MindlinTangentialLegacy = SpringTangential<MindlinStiffness, Truncation::SpringOnly,
+                                                 HistoryRotation::ProjectKeepLength,
+                                                 SpringHistory::TotalDisplacement>;
+/// Linear tangential spring-dashpot with Coulomb limit (displacement history: k_t is constant).
+using LinearTangential = SpringTangential<LinearStiffness>;
 
 }  // namespace granule::contact
