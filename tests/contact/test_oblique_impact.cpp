@@ -199,38 +199,52 @@ TEMPLATE_TEST_CASE("Oblique impacts, Hertz-Mindlin with e = 1: energy never grow
   }
 }
 
-// ENGINE DEFECT (reported in /work/notes/contact_tests_report.md, issue T2).
 // Reference: Coulomb's law of sliding friction (|F_t| = mu |F_n| while the contact slides) and
-// the energy balance. Truncation::Total (spring.hpp, SpringTangential::eval,
-// `s.xi = kt > 0.0 ? Vec(-(ft - damp) / kt) : ...`) resets the spring to the limited force MINUS
-// the dashpot force (Luding 2008 eq. 17 / LAMMPS convention). While the dashpot force
-// gamma_t |v_t| exceeds mu |F_n| (early and late in a sliding contact: gamma_t ~ delta^1/4,
-// mu F_n ~ delta^3/2) the spring is loaded forwards with energy (mu F_n + gamma_t v_t)^2/(2 k_t)
-// that no work has put in, and on a later step the force falls below the Coulomb value although
-// the contact still slides fast. Measured (HertzMindlin, e = 0.5, mu = 0.5, 3D wall): the stored
-// energy exceeds E0 by up to 23 % (60 deg); while sliding |F_t| drops to 1-2 % of mu |F_n|
-// (85-88 deg) and the friction impulse is 9 % below mu int |F_n| dt. Proposed fix: when the total
-// force is truncated, relax the spring-dashpot element implicitly instead of assuming it took the
-// whole slip: xi_new = (gamma_t xi_old / dt - F_t,lim) / (k_t + gamma_t / dt) with xi_old the
-// projected history before this step's increment (xi_new = -F_t,lim / k_t without dashpot). A
-// prototype (together with the fix of T1) keeps |F_t| = mu |F_n| while sliding and gives max
-// excess 0 for every case of this test.
+// the energy balance. Formerly (issue T2 of /work/notes/contact_tests_report.md)
+// Truncation::Total reset the spring to the limited force MINUS the dashpot force, F_s = F_lim +
+// gamma_t v_t (Luding 2008 eq. 17 / LAMMPS convention). While the dashpot force gamma_t |v_t|
+// exceeds mu |F_n| (early and late in a sliding contact: gamma_t ~ delta^1/4, mu F_n ~ delta^3/2)
+// that loaded the spring forwards with energy (mu F_n + gamma_t v_t)^2/(2 k_t) that no work had
+// put in, and on a later step the force fell below the Coulomb value although the contact still
+// slid fast. Measured (HertzMindlin, e = 0.5, mu = 0.5, 3D wall): the stored energy exceeded E0
+// by up to 23 % (60 deg); while sliding |F_t| dropped to 1-2 % of mu |F_n| (85-88 deg) and the
+// friction impulse was 9 % below mu int |F_n| dt. The spring-dashpot element is now relaxed
+// implicitly to the limited force, -k_t xi_new - gamma_t (xi_new - xi_old)/dt = F_lim with xi_old
+// the projected history before this step's increment (spring.hpp): the dashpot sees the rate of
+// the element, not the slip. Checked for both spring histories (Mindlin force form, linear
+// displacement form): no energy gain at any step and |F_t| never above mu |F_n| at every angle;
+// |F_t| = mu |F_n| while sliding where the contact slides throughout (85, 88 deg).
+// "Sliding" is detected as a contact-point velocity above 5 % of the initial one, which is only
+// valid there. At 45 and 60 deg the contact sticks part of the time while the contact points
+// still move: with tangential compliance the spring takes up the motion, and sliding stops once
+// |v_c| < mu dF_n/dt / k_t (= mu E* / (4 G*) |v_n| = 0.61 |v_n| for Hertz-Mindlin here;
+// measured: stick starts at 45 deg when |v_c| = 0.37 v_t0 = 0.61 |v_n|), after which the spring
+// even reverses v_c (Maw, Barber & Fawcett 1976; the reversal test below). The first version of
+// this test applied the 5 % criterion at every angle; it failed at 45 and 60 deg in these elastic
+// stick phases, not in sliding. Gross sliding throughout: tan(theta) > mu (1 + e)(1 + 1/k).
 TEMPLATE_TEST_CASE("Oblique impacts with damping, Truncation::Total: energy never grows, Coulomb force while sliding",
-                   "[contact][energy][oblique][!mayfail]", Dim2, Dim3) {
+                   "[contact][energy][oblique]", Dim2, Dim3) {
   using D = TestType;
+  const double mu = 0.5, e = 0.5;
   for (const bool wall : {true, false}) {
     for (const double deg : {45.0, 60.0, 85.0, 88.0}) {
       const double th = deg * kPi / 180.0;
-      const auto h = run_oblique<D, contact::HertzMindlin>(0.5, 0.5, th, wall, true);
-      const auto l = run_oblique<D, contact::LinearSpringDashpot>(0.5, 0.5, th, wall, true);
+      const bool gross_sliding = std::tan(th) > mu * (1.0 + e) * (1.0 + 1.0 / D::inertia_factor);
+      REQUIRE(gross_sliding == (deg > 80.0));
+      const auto h = run_oblique<D, contact::HertzMindlin>(e, mu, th, wall, true);
+      const auto l = run_oblique<D, contact::LinearSpringDashpot>(e, mu, th, wall, true);
       INFO("dim " << D::dim << (wall ? " wall" : " pair") << " angle " << deg << ": HertzMindlin max excess "
-                  << h.max_excess << ", min |F_t|/mu|F_n| while sliding " << h.coulomb_min_sliding
-                  << "; LinearSpringDashpot " << l.max_excess << ", " << l.coulomb_min_sliding);
+                  << h.max_excess << ", min |F_t|/mu|F_n| while |v_c| > 5 % " << h.coulomb_min_sliding
+                  << ", max " << h.coulomb_max << "; LinearSpringDashpot " << l.max_excess << ", "
+                  << l.coulomb_min_sliding << ", " << l.coulomb_max);
       CHECK(h.max_excess <= kEnergyTolerance);
       CHECK(l.max_excess <= kEnergyTolerance);
-      CHECK(h.coulomb_min_sliding >= 1.0 - 1e-9);
-      CHECK(l.coulomb_min_sliding >= 1.0 - 1e-9);
       CHECK(h.coulomb_max <= 1.0 + 1e-9);
+      CHECK(l.coulomb_max <= 1.0 + 1e-9);
+      if (gross_sliding) {
+        CHECK(h.coulomb_min_sliding >= 1.0 - 1e-9);
+        CHECK(l.coulomb_min_sliding >= 1.0 - 1e-9);
+      }
     }
   }
 }

@@ -33,9 +33,19 @@
 //                           Default.
 //   Project                 plain projection, the spring shortens (LAMMPS hooke/history).
 // Truncation (what the Coulomb limit acts on):
-//   Total       the total force (spring + damping) is limited to mu |F_n| and the spring is
-//               reset so that spring + damping equals the limited force: the correction of
-//               paper 001 section 2.2 (as LAMMPS granular).
+//   Total       the total force (spring + damping) is limited to F_lim = mu_s |F_n|: the force
+//               returned is the trial force scaled to length F_lim (001 section 2.2). The
+//               spring-dashpot element (k_t, gamma_t in parallel, in series with the slider) is
+//               then relaxed implicitly to carry exactly that force: with F_s,old the history
+//               after R (and the unloading rescale) but before this step's increment, the
+//               backward-Euler step of the element, -k_t xi_new - gamma_t (xi_new - xi_old)/dt =
+//               F_lim, gives
+//                 F_s,new = F_lim + c (F_s,old - F_lim),   c = gamma_t / (k_t dt + gamma_t)
+//               (xi = -F_s / k_t for the displacement form). Without a dashpot c = 0 and the
+//               spring takes F_lim; at dt = 0 c = 1 and the spring is unchanged. The
+//               former reset F_s = F_lim + gamma_t v_t (LAMMPS granular; Luding 2008 eq. 17) let the
+//               dashpot keep the whole relative velocity although the slider slips, and loaded
+//               the spring with energy no work had put in whenever gamma_t |v_t| > F_lim.
 //   SpringOnly  legacy LIGGGHTS 3.8: only |F_s| is compared with mu |F_n|; when sliding the
 //               spring is rescaled to the limit and damping dropped, when sticking spring +
 //               damping may exceed the limit (001 section 2.2).
@@ -113,11 +123,12 @@ struct SpringTangential {
 
   /// Checkpoints carry this name. A token changes whenever the update it names changes, so
   /// that older checkpoints of a changed law are refused: the force form adds
-  /// ",IncrementalForce" (the displacement form adds nothing, so checkpoints of the unchanged
-  /// displacement-form laws still load).
+  /// ",IncrementalForce" (the displacement form adds nothing, so LIGGGHTS 3.8 checkpoints,
+  /// whose law is unchanged, still load), and Total truncation with the implicit relaxation is
+  /// ",TotalImplicit".
   static std::string signature() {
     return "SpringTangential<" + Stiffness::signature() + (force_history ? ",IncrementalForce" : "") +
-           (Trunc == Truncation::Total ? ",Total" : ",SpringOnly") +
+           (Trunc == Truncation::Total ? ",TotalImplicit" : ",SpringOnly") +
            (Rot == HistoryRotation::ProjectKeepLength ? ",KeepLength>" : ",Project>");
   }
   struct Params {
@@ -146,13 +157,15 @@ struct SpringTangential {
       follow_contact<D>(s.fs, g);
       if (kt < s.kt_old) s.fs *= kt / s.kt_old;  // unloading: keep F_s / k_t
       s.kt_old = kt;
+      const Vec fs_old = s.fs;
       s.fs -= (kt * g.dt) * g.vt;
       if constexpr (Trunc == Truncation::Total) {
         Vec ft = s.fs + damp;
         const double f2 = ft.squaredNorm();
         if (f2 > limit * limit) {
           ft *= limit / std::sqrt(f2);
-          s.fs = ft - damp;
+          const double c = gamma_t > 0.0 ? gamma_t / (kt * g.dt + gamma_t) : 0.0;
+          s.fs = ft + c * (fs_old - ft);
         }
         return ft;
       } else {
@@ -166,12 +179,19 @@ struct SpringTangential {
     } else {
       follow_contact<D>(s.xi, g);
       if constexpr (Trunc == Truncation::Total) {
+        const Vec xi_old = s.xi;
         s.xi += g.vt * g.dt;
         Vec ft = -kt * s.xi + damp;
         const double f2 = ft.squaredNorm();
         if (f2 > limit * limit) {
           ft *= limit / std::sqrt(f2);
-          s.xi = kt > 0.0 ? Vec(-(ft - damp) / kt) : Vec(D::zero());
+          if (kt > 0.0) {
+            const double c = gamma_t > 0.0 ? gamma_t / (kt * g.dt + gamma_t) : 0.0;
+            const Vec xi_lim = -ft / kt;
+            s.xi = xi_lim + c * (xi_old - xi_lim);
+          } else {
+            s.xi = D::zero();
+          }
         }
         return ft;
       } else {
@@ -210,7 +230,7 @@ struct SpringTangential {
 };
 
 /// Hertz-Mindlin tangential spring: force history with unloading rescale, corrected truncation
-/// (001 section 2.2).
+/// (001 section 2.2) with implicit relaxation.
 using MindlinTangential = SpringTangential<MindlinStiffness>;
 /// Hertz-Mindlin tangential spring as in LIGGGHTS 3.8: displacement history F_s = -k_t(delta) xi,
 /// limit on the spring force only.
