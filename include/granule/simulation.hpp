@@ -714,6 +714,8 @@ class Simulation {
       g.i_roll = 0.0;
     }
     g.dt = config_.dt;
+    // Mean twist angle of the step about n (3D only; a disk pair has no twist).
+    if constexpr (D::dim == 3 && Model::needs_twist) g.twist = 0.5 * (p.omega[i] + p.omega[j]).dot(g.n) * g.dt;
     return true;
   }
 
@@ -743,6 +745,8 @@ class Simulation {
       g.i_roll = 0.0;
     }
     g.dt = config_.dt;
+    if constexpr (D::dim == 3 && Model::needs_twist)
+      g.twist = 0.5 * (p.omega[i] + b.current_angular_velocity).dot(g.n) * g.dt;
     return true;
   }
 

@@ -164,6 +164,7 @@ contact::ContactGeometry<D> make_pair_geometry(const typename D::Vec& xi, const 
   const double k1 = D::inertia_factor + 1.0;
   g.i_roll = 1.0 / (1.0 / (k1 * mi * ri * ri) + 1.0 / (k1 * mj * rj * rj));
   g.dt = dt;
+  if constexpr (D::dim == 3) g.twist = 0.5 * (wi + wj).dot(g.n) * dt;  // mean twist angle
   return g;
 }
 

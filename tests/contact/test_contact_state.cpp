@@ -100,3 +100,15 @@ TEMPLATE_TEST_CASE("Contact model reverse(): history of (j, i) gives the opposit
   CHECK((fbad.force + fij.force).norm() > 1e-3 * scale);
 }
 
+// Reference: io/checkpoint.hpp refuses a file whose model signature differs. Checkpoints written
+// before the Mindlin spring kept its force as history (it stored the displacement xi [m], now the
+// force F_s [N] and k_t,old), before the implicit relaxation of Truncation::Total and before the
+// twist rotation must not load into the changed laws; the LIGGGHTS 3.8 law did not change and its
+// old checkpoints still load.
+TEST_CASE("Contact model signatures: changed laws are renamed, the unchanged legacy law is not", "[contact][state]") {
+  CHECK(contact::HertzMindlin::signature() != "ContactModel<HertzNormal,SpringTangential<Mindlin,Total,KeepLength>,NoRolling,NoCohesion>");
+  CHECK(contact::LinearSpringDashpot::signature() != "ContactModel<LinearNormal,SpringTangential<Linear,Total,KeepLength>,NoRolling,NoCohesion>");
+  CHECK(contact::LinearCoulombRolling::signature() != "ContactModel<LinearNormal,IncrementalCoulombTangential,EpsdRolling,NoCohesion>");
+  CHECK(contact::HertzMindlinLegacy::signature() == "ContactModel<HertzNormal,SpringTangential<Mindlin,SpringOnly,KeepLength>,NoRolling,NoCohesion>");
+  CHECK(contact::HertzMindlin::signature() != contact::HertzMindlinLegacy::signature());
+}

@@ -31,6 +31,11 @@ struct ContactGeometry {
   double i_roll;        ///< rolling inertia I_r, 1/I_r = sum 1/(I + m r^2) (Ai et al. 2011)
                         ///< [kg m^2]; filled only when the rolling model asks for it
   double dt;            ///< time step [s]
+  /// 3D: mean twist angle of the step about n, theta = (omega_i + omega_j)/2 . n dt (wall:
+  /// (omega_i + Omega_wall)/2 . n dt) [rad]: the angle the tangent plane turns about the normal
+  /// with the pair. Filled only when a law asks for it (needs_twist); always 0 in 2D, where
+  /// nothing turns about the in-plane normal.
+  double twist = 0.0;
 };
 
 /// What the normal law hands to the later sub-models.

@@ -27,6 +27,19 @@
 
 namespace granule::contact {
 
+namespace detail {
+/// A tangential or rolling law that turns its history about the normal declares
+/// `static constexpr bool needs_twist = true`; the engine then fills ContactGeometry::twist.
+template <class Law>
+constexpr bool needs_twist() {
+  if constexpr (requires { Law::needs_twist; }) {
+    return Law::needs_twist;
+  } else {
+    return false;
+  }
+}
+}  // namespace detail
+
 template <class Normal, class Tangential = NoTangential, class Rolling = NoRolling,
           class Cohesion = NoCohesion>
 struct ContactModel {
@@ -56,6 +69,8 @@ struct ContactModel {
   template <class D>
   static constexpr bool has_state = !std::is_empty_v<State<D>>;
   static constexpr bool needs_rolling_inertia = Rolling::needs_inertia;
+  /// True when a law turns its history about n (3D: ContactGeometry::twist must be filled).
+  static constexpr bool needs_twist = detail::needs_twist<Tangential>() || detail::needs_twist<Rolling>();
 
   /// Names the composition; checkpoints refuse to load into a different model.
   static std::string signature() {

@@ -2,9 +2,11 @@
 // Incremental regularised Coulomb friction (paper 002 section 2.3, after Cundall & Strack 1979
 // and Radjai & Dubois 2011): the tangential force itself is the history,
 //
-//   F_t <- project(F_t, n) - k_t v_t dt,        |F_t| <= mu_s |F_n|  (rescaled when exceeded)
+//   F_t <- R(F_t) - k_t v_t dt,        |F_t| <= mu_s |F_n|  (rescaled when exceeded)
 //   k_t = r k_n  with k_n the normal law's secant stiffness and r the material's
 //   tangential_stiffness_ratio (002 uses r = 1/2).
+// R: the force follows the contact frame -- projected onto the new tangent plane with its length
+// kept, then turned about n by the mean twist angle of the step (history.hpp).
 // There is no tangential dashpot: dissipation comes from sliding and from the normal law.
 #include <cmath>
 
@@ -16,7 +18,9 @@
 namespace granule::contact {
 
 struct IncrementalCoulombTangential {
-  static std::string signature() { return "IncrementalCoulombTangential"; }
+  /// "<KeepLengthTwist>": the history follows the twist about n too (older checkpoints refused).
+  static std::string signature() { return "IncrementalCoulombTangential<KeepLengthTwist>"; }
+  static constexpr bool needs_twist = true;
   struct Params {
     double ratio = 0.5;  ///< k_t / k_n [-]
     double mu_s = 0.0;   ///< [-]
@@ -30,7 +34,7 @@ struct IncrementalCoulombTangential {
   template <class D>
   static typename D::Vec eval(const Params& p, const ContactGeometry<D>& g, const NormalResult& nr,
                               State<D>& s) {
-    project_history(s.ft, g.n, true);
+    rotate_history<D>(s.ft, g);
     s.ft -= p.ratio * nr.kn * g.dt * g.vt;
     const double limit = p.mu_s * std::abs(nr.fn);
     const double f2 = s.ft.squaredNorm();

@@ -29,8 +29,10 @@
 //                      Elata & Berryman 1996; tests/contact measure +2.6 % of the impact energy at
 //                      25 deg): kept only as the LIGGGHTS 3.8 behaviour (MindlinTangentialLegacy).
 // R is how the history follows the contact frame (HistoryRotation, history.hpp):
-//   ProjectKeepLength       projection onto the new tangent plane, previous length restored.
-//                           Default.
+//   ProjectKeepLengthTwist  projection onto the new tangent plane, previous length restored,
+//                           then rotation about n by the mean twist angle of the step: frame
+//                           indifferent (tests/contact/test_history_objectivity.cpp). Default.
+//   ProjectKeepLength       the same without the twist rotation (LIGGGHTS 3.8).
 //   Project                 plain projection, the spring shortens (LAMMPS hooke/history).
 // Truncation (what the Coulomb limit acts on):
 //   Total       the total force (spring + damping) is limited to F_lim = mu_s |F_n|: the force
@@ -60,7 +62,7 @@
 namespace granule::contact {
 
 enum class Truncation { Total, SpringOnly };
-enum class HistoryRotation { ProjectKeepLength, Project };
+enum class HistoryRotation { ProjectKeepLengthTwist, ProjectKeepLength, Project };
 enum class SpringHistory { IncrementalForce, TotalDisplacement };
 
 struct MindlinStiffness {
@@ -116,10 +118,11 @@ struct SpringDisplacementState {
 };
 
 template <class Stiffness, Truncation Trunc = Truncation::Total,
-          HistoryRotation Rot = HistoryRotation::ProjectKeepLength,
+          HistoryRotation Rot = HistoryRotation::ProjectKeepLengthTwist,
           SpringHistory History = Stiffness::default_history>
 struct SpringTangential {
   static constexpr bool force_history = History == SpringHistory::IncrementalForce;
+  static constexpr bool needs_twist = Rot == HistoryRotation::ProjectKeepLengthTwist;
 
   /// Checkpoints carry this name. A token changes whenever the update it names changes, so
   /// that older checkpoints of a changed law are refused: the force form adds
@@ -129,7 +132,9 @@ struct SpringTangential {
   static std::string signature() {
     return "SpringTangential<" + Stiffness::signature() + (force_history ? ",IncrementalForce" : "") +
            (Trunc == Truncation::Total ? ",TotalImplicit" : ",SpringOnly") +
-           (Rot == HistoryRotation::ProjectKeepLength ? ",KeepLength>" : ",Project>");
+           (Rot == HistoryRotation::ProjectKeepLengthTwist ? ",KeepLengthTwist>"
+            : Rot == HistoryRotation::ProjectKeepLength    ? ",KeepLength>"
+                                                           : ",Project>");
   }
   struct Params {
     typename Stiffness::Params stiffness;
@@ -142,7 +147,11 @@ struct SpringTangential {
   /// The history follows the contact frame (R above).
   template <class D>
   static void follow_contact(typename D::Vec& x, const ContactGeometry<D>& g) {
-    project_history(x, g.n, Rot == HistoryRotation::ProjectKeepLength);
+    if constexpr (needs_twist) {
+      rotate_history<D>(x, g);
+    } else {
+      project_history(x, g.n, Rot == HistoryRotation::ProjectKeepLength);
+    }
   }
 
   template <class D>
@@ -230,10 +239,10 @@ struct SpringTangential {
 };
 
 /// Hertz-Mindlin tangential spring: force history with unloading rescale, corrected truncation
-/// (001 section 2.2) with implicit relaxation.
+/// (001 section 2.2) with implicit relaxation, history turned with the contact.
 using MindlinTangential = SpringTangential<MindlinStiffness>;
 /// Hertz-Mindlin tangential spring as in LIGGGHTS 3.8: displacement history F_s = -k_t(delta) xi,
-/// limit on the spring force only.
+/// limit on the spring force only, no twist rotation.
 using MindlinTangentialLegacy = SpringTangential<MindlinStiffness, Truncation::SpringOnly,
                                                  HistoryRotation::ProjectKeepLength,
                                                  SpringHistory::TotalDisplacement>;
