@@ -606,9 +606,32 @@ class Simulation {
     forces_ready_ = true;
     // A pending request_contacts() is for the coming step, not this set-up evaluation.
     const bool pending = record_next_;
-    compute_forces(contacts_wanted(step_) || record_next_);
+    setup_forces();
     record_next_ = pending;
     initialised_ = true;
+  }
+
+  // The set-up evaluation: the forces of the initial state for the first half kick. No time has
+  // passed, so no contact history may change (LAMMPS does the same: no history update during
+  // set-up). The laws see dt = 0 -- no increment, no twist, the force of the history as it is --
+  // and whatever they still write (e.g. the stiffness the Mindlin force form remembers) is
+  // discarded: the history arrays are put back afterwards, so this holds for every law.
+  void setup_forces() {
+    struct Restore {
+      Simulation& sim;
+      ~Restore() { sim.setup_evaluation_ = false; }
+    } restore{*this};
+    std::vector<State> saved, saved_walls;
+    if constexpr (kHasState) {
+      saved = list_.state;
+      saved_walls = list_.wall_state;
+    }
+    setup_evaluation_ = true;
+    compute_forces(contacts_wanted(step_) || record_next_);
+    if constexpr (kHasState) {
+      list_.state.swap(saved);
+      list_.wall_state.swap(saved_walls);
+    }
   }
 
   void check_time_step() const {
@@ -713,7 +736,7 @@ class Simulation {
     } else {
       g.i_roll = 0.0;
     }
-    g.dt = config_.dt;
+    g.dt = setup_evaluation_ ? 0.0 : config_.dt;
     // Mean twist angle of the step about n (3D only; a disk pair has no twist).
     if constexpr (D::dim == 3 && Model::needs_twist) g.twist = 0.5 * (p.omega[i] + p.omega[j]).dot(g.n) * g.dt;
     return true;
@@ -744,7 +767,7 @@ class Simulation {
     } else {
       g.i_roll = 0.0;
     }
-    g.dt = config_.dt;
+    g.dt = setup_evaluation_ ? 0.0 : config_.dt;
     if constexpr (D::dim == 3 && Model::needs_twist)
       g.twist = 0.5 * (p.omega[i] + b.current_angular_velocity).dot(g.n) * g.dt;
     return true;
@@ -996,6 +1019,7 @@ class Simulation {
   bool list_valid_ = false;
   bool initialised_ = false;
   bool forces_ready_ = false;
+  bool setup_evaluation_ = false;  ///< the set-up force evaluation runs: contacts see dt = 0
   bool parallel_ = false;
 };
 

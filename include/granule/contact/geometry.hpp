@@ -6,6 +6,10 @@
 // Conventions: `n` is the unit normal pointing from j (or the wall) towards i; overlap > 0 in
 // contact; v_rel is the velocity of i relative to j at the contact point, so vn = v_rel . n is
 // negative while the pair approaches. Forces returned are those acting ON i.
+//
+// dt is the time the laws advance their history by. The engine's set-up evaluation (forces for
+// the first half kick, before any time has passed) hands dt = 0: every law must then be well
+// defined and add no increment (docs/physics.md, "Set-up evaluation").
 #include <limits>
 
 #include "granule/core/dimension.hpp"
@@ -30,7 +34,7 @@ struct ContactGeometry {
   AngVec omega_rel;     ///< omega_i - omega_j [rad/s]
   double i_roll;        ///< rolling inertia I_r, 1/I_r = sum 1/(I + m r^2) (Ai et al. 2011)
                         ///< [kg m^2]; filled only when the rolling model asks for it
-  double dt;            ///< time step [s]
+  double dt;            ///< time step the history advances by [s] (0 in the set-up evaluation)
   /// 3D: mean twist angle of the step about n, theta = (omega_i + omega_j)/2 . n dt (wall:
   /// (omega_i + Omega_wall)/2 . n dt) [rad]: the angle the tangent plane turns about the normal
   /// with the pair. Filled only when a law asks for it (needs_twist); always 0 in 2D, where

@@ -4,7 +4,8 @@
 //   M_r = -mu_r R* |F_n| w_r / |w_r|,     w_r = rolling part of omega_i - omega_j
 // (in 3D the twist component along n is removed). To avoid the chatter of the pure model when
 // w_r -> 0, the torque is capped at what stops the relative rolling within one step,
-// I_r |w_r| / dt, with the rolling inertia I_r of Ai et al. 2011 eq. 14.
+// I_r |w_r| / dt, with the rolling inertia I_r of Ai et al. 2011 eq. 14. At dt = 0 (the engine's
+// set-up evaluation) there is no step to overshoot and the cap is not applied.
 #include <cmath>
 
 #include <string>
@@ -29,7 +30,8 @@ struct ConstantTorqueRolling {
     const typename D::AngVec wr = g.omega_rel - D::along(g.omega_rel, g.n);
     const double w = D::norm(wr);
     if (w <= 0.0) return D::zero_ang();
-    const double torque = std::min(p.mu_r * g.r_eff * std::abs(nr.fn), g.i_roll * w / g.dt);
+    const double full = p.mu_r * g.r_eff * std::abs(nr.fn);
+    const double torque = g.dt > 0.0 ? std::min(full, g.i_roll * w / g.dt) : full;
     return wr * (-torque / w);
   }
   template <class D>

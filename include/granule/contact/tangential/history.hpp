@@ -20,7 +20,7 @@
 // had. tan(theta) is its Taylor polynomial to theta^7,
 //   tan(theta) ~ theta (1 + theta^2/3 + 2 theta^4/15 + 17 theta^6/315),
 // so the angle is off by 62/2835 theta^9 ~ 0.02 theta^9 per step (2e-11 rad at 0.1 rad per step;
-// typical steps turn by < 1e-3 rad). theta = 0 (2D) leaves
+// typical steps turn by < 1e-3 rad). theta = 0 (2D, or the set-up evaluation with dt = 0) leaves
 // the direction unchanged.
 //
 // reverse_history: the history of pair (i, j) seen from j is the negative of that seen from i;

@@ -44,7 +44,7 @@
 //               F_lim, gives
 //                 F_s,new = F_lim + c (F_s,old - F_lim),   c = gamma_t / (k_t dt + gamma_t)
 //               (xi = -F_s / k_t for the displacement form). Without a dashpot c = 0 and the
-//               spring takes F_lim; at dt = 0 c = 1 and the spring is unchanged. The
+//               spring takes F_lim; at dt = 0 (set-up) c = 1 and the spring is unchanged. The
 //               former reset F_s = F_lim + gamma_t v_t (LAMMPS granular; Luding 2008 eq. 17) let the
 //               dashpot keep the whole relative velocity although the slider slips, and loaded
 //               the spring with energy no work had put in whenever gamma_t |v_t| > F_lim.
