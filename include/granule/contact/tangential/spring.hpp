@@ -16,7 +16,7 @@
 //                        F_s <- R(F_s) - k_t v_t dt,
 //                      and when the stiffness falls (unloading: the contact area shrinks) the
 //                      carried force is first scaled with it, F_s <- F_s k_t / k_t,old, which keeps
-//                      the elastic displacement F_s / k_t (LAMMPS "mindlin/rescale/force"). Stored
+//                      the elastic displacement F_s / k_t (LAMMPS "mindlin_rescale/force"). Stored
 //                      energy |F_s|^2 / (2 k_t). With E = |F_s|^2/(2 k_t) and P = -F_s . v_t the
 //                      power the relative motion puts into the spring,
 //                        dE/dt - P = -|k_t'| |F_s|^2 / (2 k_t^2) <= 0
