@@ -26,6 +26,7 @@ usage: ./granule.sh <command> [arguments]
   test-sanitize [ctest args...]
                                deps + build with ASan/UBSan (-O1 -g) in build-sanitize/ + ctest
   run [example args...]        deps + build + run the main example ($MAIN_EXAMPLE) in out/<name>/
+                               and draw its figures with its plot.py
   bench [benchmark args...]    deps + build with benchmarks and -march=native in build-bench/,
                                then run every Google Benchmark program with these arguments
                                (the scene_* programs are built and listed; they need arguments)
@@ -135,6 +136,13 @@ cmd_run() {
   say "running $name in out/$name/"
   cd "$ROOT/out/$name"
   "$ROOT/build/examples/$name" "$@"
+  # The figures (W(s/d) and the others) from the CSVs just written; a help or failed run has
+  # none to draw. Debian's python3 has the matplotlib that deps installed.
+  local plot="$ROOT/examples/$name/plot.py"
+  if [[ -f $plot ]] && compgen -G "*.csv" >/dev/null; then
+    say "drawing the figures: $plot"
+    /usr/bin/python3 "$plot" . || say "plot.py failed (the CSV results above are complete)"
+  fi
 }
 
 cmd_bench() {
