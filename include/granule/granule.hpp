@@ -2,6 +2,7 @@
 // granule: header-only discrete element method for 2D disks and 3D spheres.
 // Umbrella header: the engine, every contact law, walls and the neighbour searches.
 #include "granule/boundaries/body.hpp"
+#include "granule/boundaries/kinematics.hpp"
 #include "granule/boundaries/wall.hpp"
 #include "granule/contact/model.hpp"
 #include "granule/integrators/symplectic_euler.hpp"
