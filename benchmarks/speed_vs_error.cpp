@@ -40,12 +40,9 @@
 //    examples/lunar_shock_channel/scene.hpp does it (soft particles of 001 table 1, pre-load F0
 //    giving 001's c_0 by the chain formula, e = 1): a shock (v_im = 1 m/s; t_c = Hertz time of
 //    the impact) and an acoustic pulse (v_im = 1e-4 m/s; the time unit is then the linearised
-//    contact's half period pi sqrt(m*/k_lin), k_lin = dF/dd at F0). run_grid() of scene.hpp
-//    fixes the integrator (the Simulation default, velocity Verlet), so `grid_run` below is a
-//    thin adapter: the same particles, planes, recording and fit, built from scene.hpp's
-//    GridOptions, ChainHertz and GridResult and analysis/wave_front.hpp, with the integrator as
-//    a template argument; every velocity-Verlet run is repeated with run_grid() itself and
-//    both front speeds are written (they agree to round-off). The reference front speed is the
+//    contact's half period pi sqrt(m*/k_lin), k_lin = dF/dd at F0), run by scene.hpp's
+//    run_grid<Integrator>() itself (same particles, planes, recording, peak picking and fit as
+//    the example). The reference front speed is the
 //    run at the smallest time step, dt = t_c/1600 (8x below the sweep; t_c/400 and t_c/800
 //    are run too, so the reference's own error can be judged).
 // 4. Neighbour skin against cost: not repeated here; docs/performance.md, "Neighbour search"
@@ -588,90 +585,17 @@ void run_gas_sweep(const Options& o, io::CsvWriter& csv, io::CsvWriter& series_c
 
 // ---- 3. struck 5 x 5 grid (paper 001 section 2.2) ---------------------------------------------
 
-/// scene.hpp's run_grid with the integrator as a template argument (see the file comment):
-/// the same grid, planes, force recording, peak picking and fit. `cpu` receives the CPU
-/// seconds of the stepping loop (recording included).
+/// scene.hpp's run_grid with the integrator chosen; `cpu` receives the CPU seconds of the whole
+/// run (the set-up of 25 particles is negligible next to the stepping loop).
 template <class Integrator>
 ls::GridResult grid_run(const ls::GridOptions& o, double v_im, double& cpu) {
-  const ls::GridMaterial& gm = o.material;
-  const ls::ChainHertz hz(gm);
-  const double r = gm.radius;
-  const double d_pp = o.preload > 0.0 ? hz.overlap_pp(o.preload) : 0.0;
-  const double d_pw = o.preload > 0.0 ? hz.overlap_pw(o.preload) : 0.0;
-  const double a = 2.0 * r - d_pp, b = 2.0 * r + 1e-9;  // spacings along and across the rows [m]
-  const double x_last = (o.length - 1) * a;
-  SimulationConfig<Dim3> cfg;
-  cfg.domain.lo = Vec(-2.0 * r, -2.0 * r, -2.0 * r);
-  cfg.domain.hi = Vec(x_last + 2.0 * r, (o.rows - 1) * b + 2.0 * r, 2.0 * r);
-  cfg.dt = o.dt;
-  cfg.allow_large_time_step = true;
-  cfg.max_overlap_ratio = 1.0;
-  Simulation<Dim3, contact::HertzMindlin, neighbours::VerletList, Integrator> sim(cfg);
-  Material m;
-  m.name = gm.name;
-  m.youngs_modulus = gm.youngs_modulus;
-  m.poisson_ratio = gm.poisson_ratio;
-  m.density = gm.density;
-  m.friction = gm.friction;
-  m.restitution = o.restitution;
-  const auto mat = sim.add_material(m);
-  const auto wall = sim.add_wall_material(m);
-  sim.add_wall(geometry::PlaneShape<Dim3>(Vec(-r + d_pw, 0, 0), Vec(1, 0, 0)), wall);
-  sim.add_wall(geometry::PlaneShape<Dim3>(Vec(x_last + r - d_pw, 0, 0), Vec(-1, 0, 0)), wall);
-  std::vector<std::uint64_t> row;
-  for (int j = 0; j < o.rows; ++j)
-    for (int i = 0; i < o.length; ++i) {
-      const bool striker = j == o.rows / 2 && i == 0;
-      const auto id = sim.add_particle(Vec(i * a, j * b, 0.0), r, mat, striker ? Vec(v_im, 0, 0) : Vec::Zero());
-      if (j == o.rows / 2) row.push_back(id);
-    }
-  const double c_sv = hz.sonic_vacuum_speed(0.5 * v_im, gm.youngs_modulus, gm.poisson_ratio, gm.density);
-  const double t_end = 2.0 * x_last / std::max(o.preload > 0.0 ? hz.sound_speed(o.preload) : 0.0, c_sv);
-  std::vector<analysis::SensorSeries> series(static_cast<std::size_t>(o.length - 1));
-  for (std::size_t k = 0; k < series.size(); ++k) series[k].position = static_cast<double>(k + 1) * a;
-  const auto record = [&] {
-    for (std::size_t k = 0; k < series.size(); ++k) {
-      series[k].time.push_back(sim.time());
-      series[k].signal.push_back(sim.particles().f[sim.index_of(row[k + 1])].norm());
-    }
-  };
   const double c0 = cpu_seconds();
-  record();
-  while (sim.time() < t_end) {
-    sim.step();
-    record();
-  }
+  ls::GridResult res = ls::run_grid<Integrator>(o, v_im);
   cpu = cpu_seconds() - c0;
-  ls::GridResult res;
-  res.v_im = v_im;
-  res.dt = o.dt;
-  res.steps = sim.step_count();
-  std::vector<double> t, x;
-  for (std::size_t k = 0; k < series.size(); ++k) {
-    analysis::ArrivalSettings as;
-    as.absolute_threshold = 0.5 * *std::max_element(series[k].signal.begin(), series[k].signal.end());
-    as.refine_parabolic = true;
-    const auto ta = analysis::arrival_time(series[k], as);
-    res.position.push_back(series[k].position);
-    res.arrival.push_back(ta ? *ta : kNaN);
-    const int i = static_cast<int>(k) + 1;
-    if (ta && i >= o.first_fitted && !(o.skip_last && i == o.length - 1)) {
-      t.push_back(*ta);
-      x.push_back(series[k].position);
-    }
-  }
-  res.c_w = kNaN;
-  res.c_w_uncertainty = kNaN;
-  if (t.size() >= 3) {
-    const auto f = analysis::fit_line(t, x);
-    res.c_w = f.slope;
-    res.c_w_uncertainty = f.slope_uncertainty;
-  }
   return res;
 }
 
 void run_grid_sweep(const Options& o, io::CsvWriter& csv, std::vector<std::array<double, 4>>& scales) {
-  double adapter_mismatch = 0.0;  // largest |c_w(grid_run VV) - c_w(run_grid)| / c_w
   const ls::GridMaterial gm = ls::soft();
   const ls::ChainHertz hz(gm);
   ls::GridOptions base;
@@ -717,25 +641,20 @@ void run_grid_sweep(const Options& o, io::CsvWriter& csv, std::vector<std::array
       };
       const ls::GridResult vv = guarded([&] { return grid_run<integrators::VelocityVerlet>(go, v_im, cpu_vv); });
       const ls::GridResult se = guarded([&] { return grid_run<integrators::SymplecticEuler>(go, v_im, cpu_se); });
-      const ls::GridResult direct = guarded([&] { return ls::run_grid(go, v_im); });  // scene.hpp (VV)
-      if (std::isfinite(vv.c_w) && std::isfinite(direct.c_w))
-        adapter_mismatch = std::max(adapter_mismatch, std::abs(vv.c_w - direct.c_w) / std::abs(direct.c_w));
       if (std::isnan(ref[0])) ref = {vv.c_w, se.c_w};
-      const auto row = [&](double order, const ls::GridResult& g, double c_ref, double cpu, double c_direct) {
+      const auto row = [&](double order, const ls::GridResult& g, double c_ref, double cpu) {
         const double cpu_ps = g.steps > 0 ? cpu / (n * static_cast<double>(g.steps)) : kNaN;
         csv.write_row({static_cast<double>(c), order, v_im, sp.ratio, sp.safety, go.dt, tc, g.c_w, g.c_w_uncertainty,
-                       c_ref, (g.c_w - c_ref) / c_ref, c_direct, static_cast<double>(g.steps), cpu, cpu_ps,
+                       c_ref, (g.c_w - c_ref) / c_ref, static_cast<double>(g.steps), cpu, cpu_ps,
                        cpu_ps * tc / go.dt});
       };
-      row(2.0, vv, ref[0], cpu_vv, direct.c_w);
-      row(1.0, se, ref[0], cpu_se, kNaN);
-      std::fprintf(stderr, "[grid] %s dt = unit/%-7.2f c_w VV %.8g (rel. to ref %+.3e)  SE %.8g (%+.3e)  run_grid "
-                   "%.8g\n", c == 0 ? "shock" : "acoustic", 1.0 / sp.ratio, vv.c_w, (vv.c_w - ref[0]) / ref[0], se.c_w,
-                   (se.c_w - ref[0]) / ref[0], direct.c_w);
+      row(2.0, vv, ref[0], cpu_vv);
+      row(1.0, se, ref[0], cpu_se);
+      std::fprintf(stderr, "[grid] %s dt = unit/%-7.2f c_w VV %.8g (rel. to ref %+.3e)  SE %.8g (%+.3e)\n",
+                   c == 0 ? "shock" : "acoustic", 1.0 / sp.ratio, vv.c_w, (vv.c_w - ref[0]) / ref[0], se.c_w,
+                   (se.c_w - ref[0]) / ref[0]);
     }
   }
-  std::printf("grid adapter check: largest relative difference of c_w between grid_run<VelocityVerlet> and "
-              "scene.hpp run_grid: %.3g\n", adapter_mismatch);
 }
 
 // ---- default time step against the collision time ---------------------------------------------
@@ -835,7 +754,7 @@ int main(int argc, char** argv) {
     io::CsvWriter grid(o.out / "speed_vs_error_grid.csv",
                        {{"case", ""}, {"integrator_order", ""}, {"v_im", "m/s"}, {"dt_over_tc", ""}, {"safety", ""},
                         {"dt", "s"}, {"tc", "s"}, {"c_w", "m/s"}, {"c_w_uncertainty", "m/s"}, {"c_w_reference", "m/s"},
-                        {"c_w_rel_error", ""}, {"c_w_run_grid", "m/s"}, {"steps", ""}, {"cpu", "s"},
+                        {"c_w_rel_error", ""}, {"steps", ""}, {"cpu", "s"},
                         {"cpu_per_particle_step", "s"}, {"cpu_per_particle_per_tc", "s"}});
     std::vector<std::array<double, 4>> scales;
     run_grid_sweep(o, grid, scales);
