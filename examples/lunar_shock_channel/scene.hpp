@@ -329,7 +329,9 @@ struct ChannelOptions {
   /// Cap on the channel time steps chosen automatically (pour, settle, shock) [s]. At the
   /// engine's limit (0.2 Rayleigh times = 3.0e-5 s) a static bed never comes to rest: its mean
   /// net force stays at 5-8 particle weights with particles spinning at ~150 rad/s, whatever the
-  /// settling (measured: 3 weights at 2e-5 s, 0.6 at 1.5e-5 s, 0.3-0.5 at 1e-5 and 5e-6 s).
+  /// settling (measured: 3 weights at 2e-5 s, 0.6 at 1.5e-5 s, 0.3-0.5 at 1e-5 and 5e-6 s). The
+  /// cause is the explicit EPSD rolling damping (eta_r = 2), whose rate 2 C_r / I per contact is
+  /// 0.72 per step of 3.0e-5 s; with eta_r = 0 the bed stays quiet at 3.0e-5 s (README).
   double dt_max = 1e-5;
   /// Longest settling after the top is removed [s]; settling stops earlier once the bed is
   /// quiet (settle_force).
