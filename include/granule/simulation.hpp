@@ -931,7 +931,7 @@ class Simulation {
   }
 
   template <bool Record>
-  void process_layer(std::size_t l) {
+  [[gnu::flatten]] void process_layer(std::size_t l) {
     auto& p = particles_;
     auto& acc = layer_acc_[l];
     const std::size_t n = p.owned();
