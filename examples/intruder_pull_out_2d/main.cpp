@@ -2,8 +2,9 @@
 // force and friction mobilisation against the intruder height, the drag's power spectrum and
 // coarse-grained velocity maps (normalised by V) at a few heights. See README.md and scene.hpp.
 //
-//   intruder_pull_out_2d [--paper] [--width M] [--bed-height M] [--E PA] [--velocity M/S]
-//                        [--seed N] [--out DIR]
+//   intruder_pull_out_2d [--paper | --medium] [--width M] [--bed-height M] [--E PA] [--velocity M/S]
+//                        [--fill-rate 1/S] [--fill-source-width M] [--fill-release-height M]
+//                        [--fill-friction MU] [--seed N] [--out DIR]
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -29,7 +30,12 @@ int main(int argc, char** argv) {
                  "  --bed-height M      target bed height [m] (quick: 0.05)\n"
                  "  --E PA              Young's modulus, k_n = E d [Pa] (quick: 2e7)\n"
                  "  --velocity M/S      intruder speed V [m/s] (quick: 0.02)\n"
+                 "  --medium            paper cell and bed (W = 0.1 m, bed 0.15 m) with the quick E and V\n"
                  "  --sample-travel M   intruder travel per drag sample [m] (quick: 2e-4)\n"
+                 "  --fill-rate N       disks released per second while filling [1/s]; 0: all at once\n"
+                 "  --fill-source-width M   width of the release region, centred [m]; 0: whole cell\n"
+                 "  --fill-release-height M height of the release region above the floor [m]; 0: 3 x bed\n"
+                 "  --fill-friction MU  friction while filling (mu restored before settling); -1: mu\n"
                  "  --seed N            insertion seed (1)\n"
                  "  --out DIR           output directory (out/intruder_pull_out_2d)\n");
   };
@@ -43,11 +49,20 @@ int main(int argc, char** argv) {
       const auto keep_seed = p.seed;
       p = po::paper_params();
       p.seed = keep_seed;
+    } else if (arg == "--medium") {
+      const auto q = po::paper_params();
+      p.cell_width = q.cell_width;
+      p.bed_height = q.bed_height;
+      p.fill_rate = q.fill_rate;
     } else if (arg == "--width") p.cell_width = std::stod(next());
     else if (arg == "--bed-height") p.bed_height = std::stod(next());
     else if (arg == "--E") p.youngs_modulus = std::stod(next());
     else if (arg == "--velocity") p.pull_velocity = std::stod(next());
     else if (arg == "--sample-travel") p.sample_travel = std::stod(next());
+    else if (arg == "--fill-rate") p.fill_rate = std::stod(next());
+    else if (arg == "--fill-source-width") p.fill_source_width = std::stod(next());
+    else if (arg == "--fill-release-height") p.fill_release_height = std::stod(next());
+    else if (arg == "--fill-friction") p.fill_friction = std::stod(next());
     else if (arg == "--seed") p.seed = std::stoull(next());
     else if (arg == "--out") out = next();
     else if (arg == "--help") { usage(stdout); return 0; }
@@ -61,6 +76,19 @@ int main(int argc, char** argv) {
   const double d = p.mean_diameter;
   std::fprintf(stderr, "bed: %zu disks, height %.4f m, settled %s, dt %.3g s, V/sqrt(g d) = %.3g\n", s.particles,
                s.bed_height, s.settled ? "yes" : "no", s.sim->dt(), p.pull_velocity / std::sqrt(9.81 * d));
+  const auto& pk = s.packing;
+  std::printf("bed: mean surface %.1f mm (top of the 5 highest disks %.1f mm); packing fraction %.3f in the interior "
+              "(%zu slabs %.3f-%.3f), %.3f over the whole bed; filled and settled in %.2f s simulated\n",
+              pk.surface * 1e3, s.bed_height * 1e3, pk.interior, pk.slabs, pk.interior_min, pk.interior_max, pk.whole,
+              s.fill_sim_time);
+  {
+    io::CsvWriter csv(out / "bed.csv", {{"disks", ""}, {"mean_surface", "m"}, {"top_surface", "m"},
+                                        {"phi_interior", ""}, {"phi_interior_min", ""}, {"phi_interior_max", ""},
+                                        {"phi_whole", ""}, {"fill_time", "s"}, {"settled", ""}},
+                      {.flush_every_row = false});
+    csv.write_row({double(s.particles), pk.surface, s.bed_height, pk.interior, pk.interior_min, pk.interior_max,
+                   pk.whole, s.fill_sim_time, s.settled ? 1.0 : 0.0});
+  }
 
   const double final_height = s.bed_height + d;
   const double travel = final_height - s.intruder_y0;

@@ -55,13 +55,20 @@ void usage() {
       "  --flux Q               insertion flux instead [particles/(s m^2)]\n"
       "  --pour-speed V         downward speed of inserted particles [m/s] (0.65; paper 0)\n"
       "  --drop H               insertion region bottom above the fill height [m] (0.02; paper 0.10)\n"
-      "  --settle-time T        settling time [s] (0.2; paper 1)\n"
+      "  --settle-time T        longest settling time [s] (1; paper 5)\n"
+      "  --settle-force F       stop settling once the mean net force per particle is below F weights m g\n"
+      "                         [-] (1e-3; paper 3e-7 = 1e-11 N; 0: settle the whole --settle-time)\n"
+      "  --settle-speed V       ... and no particle faster than V [m/s] (1e-3; 0: no condition)\n"
+      "  --settle-damping G     background damping of velocities and spins while settling [1/s] (0: none)\n"
+      "  --zero-interval T      velocities zeroed this often while settling [s] (0.025; 0: never)\n"
       "  --seed S               insertion seed (1)\n"
       "  --vp LIST              piston speeds v_p, comma separated [m/s] (0.1,1,10)\n"
       "  --bender               S wave: sheet follows z = A sin(2 pi f t) for one period, A = v_p/(2 pi f)\n"
       "  --frequency F          bender frequency [Hz] (5e4)\n"
       "  --run-time T           simulated time after the impulse [s] (0: 2.5 L / 7 m/s)\n"
-      "  --dt-shock DT          shock time step [s] (0: min(engine limit, tau_c(v_p)/20, period/20))\n"
+      "  --dt-shock DT          shock time step [s] (0: min(engine limit, dt-max, tau_c(v_p)/20, period/20))\n"
+      "  --dt-prepare DT        pour and settle time step [s] (0: min(engine limit, dt-max); paper 1e-6)\n"
+      "  --dt-max DT            cap on the automatic time steps [s] (1e-5; 0: none, the engine limit 3e-5)\n"
       "  --sample DT            sensor sampling interval [s] (2e-5)\n"
       "  --pre-record T         sensors record T before the impulse: initial level [s] (1e-3)\n"
       "  --sensor-time T        keep force series for T after the impulse [s] (0: whole run; paper 0.25)\n"
@@ -154,13 +161,27 @@ int run_channel(ChannelOptions o, const std::vector<double>& vps, const std::fil
   std::filesystem::create_directories(out);
   const auto bed = prepare_bed(o);
   std::printf("bed (%s, flux %.4g 1/(s m^2)): %zu particles%s, packing fraction %.4f, mean overlap delta_0 = %.4g m,"
-              " KE/particle %.3g J, %.1f s wall\n",
+              " %.1f s wall\n",
               packing_name(o.packing), o.flux(), bed.particles, bed.from_cache ? " (cached)" : "",
-              bed.packing_fraction, bed.mean_overlap, bed.ke_per_particle, bed.wall_seconds);
-  if (!bed.from_cache)
-    std::printf("  poured %zu in %.3f s simulated, removed %zu above the fill height, settled %.3f s\n", bed.poured,
-                bed.pour_time, bed.removed, bed.settle_time);
+              bed.packing_fraction, bed.mean_overlap, bed.wall_seconds);
+  std::printf("  poured %zu (%.3f s simulated%s, %.1f s wall), removed %zu above the fill height; settled %.3f s"
+              " (%s, %.1f s wall)\n",
+              bed.poured, bed.pour_time, bed.pour_from_cache || bed.from_cache ? ", cached" : "", bed.pour_wall_seconds,
+              bed.removed, bed.settle_time,
+              bed.settled ? "quiet" : (o.settle_force > 0 ? "NOT quiet: settle-time reached" : "fixed time"),
+              bed.settle_wall_seconds);
+  const auto& q = bed.quiet;
+  std::printf("  quietness: net force / weight mean %.3g, median %.3g, p99 %.3g; KE/particle %.3g J; max |v| %.3g m/s,"
+              " max |omega| %.3g rad/s\n",
+              q.force_mean, q.force_median, q.force_p99, q.ke_per_particle, q.max_speed, q.max_spin);
   std::printf("  bed depth %.1f particle diameters; checkpoint %s\n", o.depth / (2 * o.radius), bed_path(o).string().c_str());
+  if (!bed.settle_history.empty()) {
+    io::CsvWriter sc(out / ("bed_settle_" + std::string(packing_name(o.packing)) + ".csv"),
+                     {{"time", "s"}, {"force_mean", "m g"}, {"force_median", "m g"}, {"force_p99", "m g"},
+                      {"ke_per_particle", "J"}, {"max_speed", "m/s"}, {"max_spin", "rad/s"}});
+    for (const auto& h : bed.settle_history)
+      sc.write_row({h.time, h.force_mean, h.force_median, h.force_p99, h.ke_per_particle, h.max_speed, h.max_spin});
+  }
   const std::string tag = o.bender ? "s" : "p";
   io::CsvWriter summary(out / ("channel_summary_" + tag + ".csv"),
                         {{"v_p", "m/s"}, {"c_w", "m/s"}, {"c_w_sd", "m/s"}, {"c_p", "m/s"}, {"c_p_sd", "m/s"},
@@ -175,10 +196,15 @@ int run_channel(ChannelOptions o, const std::vector<double>& vps, const std::fil
                      {{"v_p", "m/s"}, {"y", "m"}, {"dz", "m"}, {"delta_m_over_delta_0", ""}});
   std::vector<double> sorted = vps;
   std::sort(sorted.begin(), sorted.end());
-  double c0 = NAN;
+  // c_0 = mean c_w of the acoustic waves, v_p <= 0.1 m/s (001 section 2.9, table 6).
+  double c0 = NAN, c0_sum = 0.0;
+  int c0_n = 0;
   for (double v : sorted) {
     const ShockResult r = run_shock(o, v);
-    if (v <= 0.1 + 1e-12 && !std::isfinite(c0)) c0 = r.c_w_mean;
+    if (v <= 0.1 + 1e-12 && std::isfinite(r.c_w_mean)) {
+      c0_sum += r.c_w_mean;
+      c0 = c0_sum / ++c0_n;
+    }
     const double mach = r.c_p_mean / c0;
     std::printf("v_p = %6.3g m/s: c_w = %.3f +- %.3f m/s, c_p = %.3f +- %.3f m/s, M = c_p/c_0 = %.3f, "
                 "delta_m/delta_0 = %.3f, dz = %.3g +- %.2g mm, v_max = %.3g m/s, %zu ejected  (dt %.3g s, %.0f s wall)\n",
@@ -194,8 +220,16 @@ int run_channel(ChannelOptions o, const std::vector<double>& vps, const std::fil
     }
     for (std::size_t j = 0; j < ny; ++j) cols.write_row({r.v_p, r.y[j], r.dz[j], r.delta_ratio[j]});
   }
-  std::printf("sound speed c_0 (c_w at the lowest v_p <= 0.1 m/s) = %.3f m/s; paper table 6 (%s): %.2f m/s\n", c0,
-              packing_name(o.packing), paper_sound_speed(o.packing));
+  const Material mat = channel_material(false);
+  const double mass = mat.density * o.particle_volume();
+  const double d0_paper = paper_mean_overlap(o.packing), c0_paper = paper_sound_speed(o.packing);
+  std::printf("sound speed c_0 (mean c_w over v_p <= 0.1 m/s, %d run(s)) = %.3f m/s; paper table 6 (%s): %.2f m/s\n",
+              c0_n, c0, packing_name(o.packing), c0_paper);
+  std::printf("  c ~ delta_0^(1/4): paper c_0 x (%.3g / %.3g um)^(1/4) = %.3f m/s; eq. 7 x sqrt(3)/2 with this bed's"
+              " delta_0: %.3f m/s (with the paper's delta_0: %.3f m/s)\n",
+              bed.mean_overlap * 1e6, d0_paper * 1e6, c0_paper * std::pow(bed.mean_overlap / d0_paper, 0.25),
+              eq7_sound_speed(bed.mean_overlap, o.radius, mass, mat.youngs_modulus, mat.poisson_ratio),
+              eq7_sound_speed(d0_paper, o.radius, mass, mat.youngs_modulus, mat.poisson_ratio));
   std::printf("output in %s\n", out.string().c_str());
   return 0;
 }
@@ -257,6 +291,8 @@ int main(int argc, char** argv) {
       else if (arg == "--bed-dir") bed_dir = next();
       else if (arg == "--length" || arg == "--depth" || arg == "--width" || arg == "--packing" || arg == "--flux" ||
                arg == "--pour-speed" || arg == "--drop" || arg == "--settle-time" || arg == "--seed" ||
+               arg == "--settle-force" || arg == "--settle-speed" || arg == "--settle-damping" || arg == "--zero-interval" ||
+               arg == "--dt-prepare" || arg == "--dt-max" ||
                arg == "--frequency" || arg == "--run-time" || arg == "--dt-shock" || arg == "--sample" ||
                arg == "--cw-window" || arg == "--cp-window" || arg == "--pre-record" || arg == "--sensor-time")
         channel_args.emplace_back(arg, next());
@@ -297,10 +333,16 @@ int main(int argc, char** argv) {
       else if (k == "--pour-speed") co.pour_speed = std::stod(v);
       else if (k == "--drop") co.drop_height = std::stod(v);
       else if (k == "--settle-time") co.settle_time = std::stod(v);
+      else if (k == "--settle-force") co.settle_force = std::stod(v);
+      else if (k == "--settle-speed") co.settle_speed = std::stod(v);
+      else if (k == "--settle-damping") co.settle_damping = std::stod(v);
+      else if (k == "--zero-interval") co.zero_interval = std::stod(v);
       else if (k == "--seed") co.seed = std::stoull(v);
       else if (k == "--frequency") co.bender_frequency = std::stod(v);
       else if (k == "--run-time") co.run_time = std::stod(v);
       else if (k == "--dt-shock") co.dt_shock = std::stod(v);
+      else if (k == "--dt-prepare") co.dt_prepare = std::stod(v);
+      else if (k == "--dt-max") co.dt_max = std::stod(v);
       else if (k == "--sample") co.sample_interval = std::stod(v);
       else if (k == "--pre-record") co.pre_record = std::stod(v);
       else if (k == "--sensor-time") co.sensor_time = std::stod(v);

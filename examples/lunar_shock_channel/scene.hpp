@@ -31,6 +31,7 @@
 //    from the top particles (001 section 2.8.2, analysis/packing.hpp).
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -38,6 +39,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <initializer_list>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -297,6 +299,20 @@ inline double paper_sound_speed(Packing p) {
   return p == Packing::Loose ? 6.55 : p == Packing::Medium ? 7.01 : 7.51;
 }
 
+/// Mean initial particle-particle overlap delta_0 of 001 table 8 / fig. 3 (2 m x 20 cm beds) [m].
+inline double paper_mean_overlap(Packing p) {
+  return p == Packing::Loose ? 4.82e-6 : p == Packing::Medium ? 4.81e-6 : 4.23e-6;
+}
+
+/// 001 eq. 7 (Nesterenko 2001 eq. 1.7, strongly compressed 1D chain) times the sqrt(3)/2 that
+/// 001 fig. 7 applies: c_0 from the mean static overlap delta_0 [m] of spheres of radius R [m],
+/// mass m [kg], Young's modulus E [Pa] and Poisson ratio nu [-] -> [m/s].
+inline double eq7_sound_speed(double delta_0, double radius, double mass, double youngs, double nu) {
+  const double c2 = youngs * std::sqrt(2.0 * radius) / (3.0 * (1.0 - nu * nu) * mass) * std::sqrt(delta_0) * 6.0 *
+                    radius * radius;
+  return std::sqrt(3.0) / 2.0 * std::sqrt(c2);
+}
+
 struct ChannelOptions {
   // geometry
   double length = 0.25;          ///< channel length along y (wave direction) [m]
@@ -309,16 +325,33 @@ struct ChannelOptions {
   double drop_height = 0.02;     ///< insertion region starts this far above the fill height [m] (001: 0.10)
   double region_height = 0.03;   ///< height of the insertion region [m] (001: 0.20)
   double pour_speed = 0.65;      ///< downward speed of inserted particles [m/s] (001: 0)
-  double dt_prepare = 0.0;       ///< pour/settle time step [s]; 0 = largest allowed
-  double settle_time = 0.2;      ///< settling time after the top is removed [s]
-  double zero_interval = 0.025;  ///< velocities zeroed this often while settling [s] (001: 25 ms)
+  double dt_prepare = 0.0;       ///< pour/settle time step [s]; 0 = min(largest allowed, dt_max)
+  /// Cap on the channel time steps chosen automatically (pour, settle, shock) [s]. At the
+  /// engine's limit (0.2 Rayleigh times = 3.0e-5 s) a static bed never comes to rest: its mean
+  /// net force stays at 5-8 particle weights with particles spinning at ~150 rad/s, whatever the
+  /// settling (measured: 3 weights at 2e-5 s, 0.6 at 1.5e-5 s, 0.3-0.5 at 1e-5 and 5e-6 s).
+  double dt_max = 1e-5;
+  /// Longest settling after the top is removed [s]; settling stops earlier once the bed is
+  /// quiet (settle_force).
+  double settle_time = 1.0;
+  /// Quiet: mean net force per particle below this many particle weights m g [-]
+  /// (001: mean force 1e-11 N = 3e-7 weights); 0 = settle for the whole settle_time.
+  double settle_force = 1e-3;
+  /// ... and no particle faster than this [m/s] (0 = no condition): perched surface particles
+  /// that roll off later land with force peaks that the wave detection takes for arrivals.
+  double settle_speed = 1e-3;
+  /// Background damping while settling: every free velocity and spin decays as exp(-rate t)
+  /// [1/s] (0 = none, 001 uses none).
+  double settle_damping = 0.0;
+  double settle_check = 0.005;   ///< quietness measured this often while settling [s]
+  double zero_interval = 0.025;  ///< velocities zeroed this often while settling [s] (001: 25 ms; 0 = never)
   double gravity = 1.625;        ///< lunar gravity along -z [m/s^2]
   std::uint64_t seed = 1;
   std::filesystem::path bed_dir = ".";  ///< where the settled-bed checkpoint is cached
   // shock
   bool bender = false;           ///< S wave by the virtual bender instead of the P-wave piston
   double bender_frequency = 50e3;  ///< [Hz] (001 section 2.6)
-  double dt_shock = 0.0;         ///< [s]; 0 = min(largest allowed, tau_c(v_p)/20, bender period/20)
+  double dt_shock = 0.0;         ///< [s]; 0 = min(largest allowed, dt_max, tau_c(v_p)/20, bender period/20)
   double run_time = 0.0;         ///< simulated time after the shock [s]; 0 = 2.5 L / 7 m/s
   double sample_interval = 2e-5; ///< sensor sampling interval [s]
   /// The sensors record this long before the impulse; the mean over it is each bin's initial
@@ -342,7 +375,8 @@ struct ChannelOptions {
     o.pour_speed = 0.0;
     o.dt_prepare = 1e-6;
     o.dt_shock = 1e-6;
-    o.settle_time = 1.0;
+    o.settle_time = 5.0;       // a cap: 001 settles until the mean force is 1e-11 N
+    o.settle_force = 1e-11 / (o.gravity * 2500.0 * o.particle_volume());  // 3.0e-7 weights
     o.run_time = 1.5;
     o.sample_interval = 1e-4;
     o.sensor_time = 0.25;  // 001 writes 1 ms frames over the first 0.25 s
@@ -370,7 +404,13 @@ struct ChannelOptions {
     require_non_negative(drop_height, w, "drop_height");
     require_non_negative(pour_speed, w, "pour_speed");
     require_positive(settle_time, w, "settle_time");
-    require_positive(zero_interval, w, "zero_interval");
+    require_non_negative(dt_prepare, w, "dt_prepare");
+    require_non_negative(dt_max, w, "dt_max");
+    require_non_negative(settle_force, w, "settle_force");
+    require_non_negative(settle_speed, w, "settle_speed");
+    require_non_negative(settle_damping, w, "settle_damping");
+    require_positive(settle_check, w, "settle_check");
+    require_non_negative(zero_interval, w, "zero_interval");
     require_positive(sample_interval, w, "sample_interval");
     require(bin >= 2.0 * radius, w, "bin", bin, "[2 R, inf) m");
     require(cw_to > cw_from && cp_to > cp_from, w, "fit windows (to - from)", std::min(cw_to - cw_from, cp_to - cp_from),
@@ -417,11 +457,15 @@ inline double channel_max_dt(const ChannelOptions& o) {
   return 0.2 * rayleigh_time(o.radius, m.density, m.shear_modulus(), m.poisson_ratio);
 }
 
-/// Cache file of the settled bed: the name carries a hash of every bed parameter.
-inline std::filesystem::path bed_path(const ChannelOptions& o) {
-  const double vals[] = {o.length, o.depth, o.width, o.radius, o.flux(), o.drop_height, o.region_height,
-                         o.pour_speed, o.dt_prepare, o.settle_time, o.zero_interval, o.gravity,
-                         static_cast<double>(o.seed), 2.0 /* bed recipe version */};
+/// Step of pouring and settling: dt_prepare, or the engine's limit capped at dt_max [s].
+inline double prepare_dt(const ChannelOptions& o) {
+  if (o.dt_prepare > 0.0) return o.dt_prepare;
+  return o.dt_max > 0.0 ? std::min(channel_max_dt(o), o.dt_max) : channel_max_dt(o);
+}
+
+namespace detail {
+/// FNV-1a hash of the bytes of some doubles.
+inline std::uint64_t hash_values(std::initializer_list<double> vals) {
   std::uint64_t h = 1469598103934665603ull;
   for (double v : vals) {
     unsigned char b[sizeof(double)];
@@ -431,22 +475,94 @@ inline std::filesystem::path bed_path(const ChannelOptions& o) {
       h *= 1099511628211ull;
     }
   }
-  char name[64];
-  std::snprintf(name, sizeof name, "bed_%s_%016llx.ckpt", packing_name(o.packing), static_cast<unsigned long long>(h));
+  return h;
+}
+
+inline std::filesystem::path cache_name(const ChannelOptions& o, const char* kind, std::uint64_t h) {
+  char name[80];
+  std::snprintf(name, sizeof name, "%s_%s_%016llx.ckpt", kind, packing_name(o.packing), static_cast<unsigned long long>(h));
   return o.bed_dir / name;
+}
+}  // namespace detail
+
+/// Cache file of the poured and trimmed bed before settling (table-2 material, at rest): the
+/// name carries a hash of every pouring parameter, so settling variants reuse one pour.
+inline std::filesystem::path poured_path(const ChannelOptions& o) {
+  return detail::cache_name(o, "poured",
+                            detail::hash_values({o.length, o.depth, o.width, o.radius, o.flux(), o.drop_height,
+                                                 o.region_height, o.pour_speed, prepare_dt(o), o.gravity,
+                                                 static_cast<double>(o.seed), 1.0 /* pour recipe version */}));
+}
+
+/// Cache file of the settled bed: the name carries a hash of every bed parameter.
+inline std::filesystem::path bed_path(const ChannelOptions& o) {
+  return detail::cache_name(
+      o, "bed",
+      detail::hash_values({o.length, o.depth, o.width, o.radius, o.flux(), o.drop_height, o.region_height, o.pour_speed,
+                           prepare_dt(o), o.settle_time, o.zero_interval, o.gravity, static_cast<double>(o.seed),
+                           o.settle_force, o.settle_speed, o.settle_damping, o.settle_check,
+                           3.0 /* bed recipe version */}));
+}
+
+/// How quiet a bed is (001 section 2.4 settles until the mean force is 1e-11 N): net force
+/// |f| of each free particle (gravity included, so zero in equilibrium) in units of its weight.
+struct Quietness {
+  double time = 0.0;             ///< simulated time [s]
+  double ke_per_particle = 0.0;  ///< translational + rotational, mean over all particles [J]
+  double force_mean = 0.0;       ///< mean |f| / (m g) over the free particles [-]
+  double force_median = 0.0;     ///< median |f| / (m g) [-]
+  double force_p99 = 0.0;        ///< 99th percentile of |f| / (m g) [-]
+  double max_speed = 0.0;        ///< largest |v| [m/s]
+  double max_spin = 0.0;         ///< largest |omega| [rad/s]
+};
+
+/// Quietness of the current state of sim under gravity g [m/s^2] (forces of the last step).
+inline Quietness measure_quietness(const ChannelSim& sim, double g) {
+  const auto& p = sim.particles();
+  Quietness q;
+  q.time = sim.time();
+  std::vector<double> f;
+  f.reserve(p.owned());
+  double s = 0.0;
+  for (std::size_t i = 0; i < p.owned(); ++i) {
+    q.max_speed = std::max(q.max_speed, p.v[i].norm());
+    q.max_spin = std::max(q.max_spin, p.omega[i].norm());
+    if (p.motion[i] != Motion::Free) continue;
+    f.push_back(p.f[i].norm() / (p.mass[i] * g));
+    s += f.back();
+  }
+  q.ke_per_particle = sim.kinetic_energy() / static_cast<double>(std::max<std::size_t>(1, p.owned()));
+  if (!f.empty()) {
+    q.force_mean = s / static_cast<double>(f.size());
+    const auto pick = [&](double fraction) {
+      auto it = f.begin() + static_cast<long>(std::floor(fraction * static_cast<double>(f.size() - 1)));
+      std::nth_element(f.begin(), it, f.end());
+      return *it;
+    };
+    q.force_median = pick(0.5);
+    q.force_p99 = pick(0.99);
+  }
+  return q;
 }
 
 /// What bed preparation did.
 struct BedReport {
-  bool from_cache = false;
+  bool from_cache = false;       ///< the settled bed was loaded from bed_path
+  bool pour_from_cache = false;  ///< the poured bed was loaded from poured_path
   std::size_t poured = 0;        ///< particles inserted [-]
   std::size_t removed = 0;       ///< deleted above the fill height [-]
   std::size_t particles = 0;     ///< in the bed [-]
   double pour_time = 0.0;        ///< simulated pouring time [s]
   double settle_time = 0.0;      ///< simulated settling time [s]
+  bool settled = false;          ///< the settle_force criterion was met within settle_time
   double ke_per_particle = 0.0;  ///< at the end of settling [J]
   double packing_fraction = 0.0; ///< particle volume / (L W H) below the fill height [-]
   double mean_overlap = 0.0;     ///< mean particle-particle overlap delta_0 [m]
+  Quietness quiet;               ///< of the bed as the shocks start from it
+  std::vector<Quietness> settle_history;  ///< every settle_check while settling, time counted from its start
+                                          ///< (empty for a cached bed)
+  double pour_wall_seconds = 0.0;    ///< [s]
+  double settle_wall_seconds = 0.0;  ///< [s]
   double wall_seconds = 0.0;     ///< [s]
 };
 
@@ -466,70 +582,139 @@ inline double mean_overlap(const ChannelSim& sim) {
     }
   return n ? s / static_cast<double>(n) : 0.0;
 }
+
+/// Pours with e -> 0 and no rolling damping, copies the bed at rest into `bed` (table-2
+/// material) and deletes what is above the fill height.
+inline void pour_bed(const ChannelOptions& o, double dt, ChannelSim& bed, BedReport& rep) {
+  auto pour_sim = make_channel(o, dt, true);
+  const double r = o.radius;
+  geometry::Aabb<Dim3> region{Vec(r, r, o.depth + o.drop_height),
+                              Vec(o.width - r, o.length - r, o.depth + o.drop_height + o.region_height)};
+  const std::size_t total = o.pour_count();
+  const double rate = o.flux() * o.length * o.width;  // [particles/s]
+  scene::Pour<ChannelSim> pour(*pour_sim, region, scene::MonodisperseSizes(r), scene::StreamSchedule(rate, total), 0,
+                               Vec(0, 0, -o.pour_speed), 0, o.seed);
+  io::ProgressReporter progress({.end_time = 0.0, .mode = o.progress ? io::ProgressMode::On : io::ProgressMode::Off,
+                                 .interval = 5.0, .label = "pour"});
+  const auto every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(1e-3 / dt)));
+  // Pour, then let the last particles land: stop when the mean kinetic energy per particle
+  // is below that of a particle moving at 1 cm/s (or 3 s after the last insertion is due).
+  const double m = channel_material(false).density * o.particle_volume();
+  const double quiet = 0.5 * m * 1e-4;
+  const double t_limit = static_cast<double>(total) / rate + 3.0;
+  while (pour_sim->time() < t_limit) {
+    pour.update();
+    pour_sim->run(every);
+    progress.update(pour_sim->step_count(), pour_sim->time());
+    if (pour.finished()) {
+      const double n = static_cast<double>(std::max<std::size_t>(1, pour_sim->particles().owned()));
+      if (pour_sim->kinetic_energy() / n < quiet) break;
+    }
+  }
+  progress.finish(pour_sim->step_count(), pour_sim->time());
+  rep.poured = pour.inserted();
+  rep.pour_time = pour_sim->time();
+  const auto& p = pour_sim->particles();
+  for (std::size_t i = 0; i < p.owned(); ++i)
+    if (p.x[i].z() <= o.depth - r) bed.add_particle(p.x[i], p.radius[i], 0);
+  rep.removed = p.owned() - bed.particles().owned();
+}
+
+/// Settles `bed` (001 section 2.4): velocities zeroed every zero_interval, optional background
+/// damping, quietness measured every settle_check (before a zeroing that falls on the same
+/// step); stops once the mean net force is below settle_force weights or after settle_time.
+inline void settle_bed(const ChannelOptions& o, ChannelSim& bed, BedReport& rep) {
+  const auto t_wall = std::chrono::steady_clock::now();
+  const double dt = bed.dt();
+  const double t0 = bed.time();
+  const auto steps_of = [&](double interval) {
+    return std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(interval / dt)));
+  };
+  const std::uint64_t per_check = steps_of(o.settle_check);
+  const std::uint64_t per_zero = o.zero_interval > 0.0 ? steps_of(o.zero_interval) : 0;
+  const double decay = std::exp(-o.settle_damping * dt);
+  const auto total = static_cast<std::uint64_t>(std::llround(o.settle_time / dt));
+  double last_line = -1e300;
+  for (std::uint64_t k = 1; k <= total; ++k) {
+    bed.step();
+    auto& p = bed.particles();
+    if (o.settle_damping > 0.0)
+      for (std::size_t i = 0; i < p.owned(); ++i) {
+        p.v[i] *= decay;
+        p.omega[i] *= decay;
+      }
+    if (k % per_check == 0 || k == total) {
+      Quietness q = measure_quietness(bed, o.gravity);
+      q.time -= t0;  // since the start of settling
+      rep.settle_history.push_back(q);
+      const bool quiet = o.settle_force > 0.0 && q.force_mean < o.settle_force &&
+                         (o.settle_speed <= 0.0 || q.max_speed < o.settle_speed);
+      const double wall = elapsed_since(t_wall);
+      if (o.progress && (wall - last_line >= 5.0 || quiet || k == total)) {
+        last_line = wall;
+        std::fprintf(stderr,
+                     "settle: t = %.3f s, net force / weight: mean %.3g, median %.3g, p99 %.3g; KE/particle %.3g J, "
+                     "max |v| %.3g m/s, max |omega| %.3g rad/s (%.0f s wall)\n",
+                     q.time, q.force_mean, q.force_median, q.force_p99, q.ke_per_particle, q.max_speed,
+                     q.max_spin, wall);
+      }
+      if (quiet) {
+        rep.settled = true;
+        break;
+      }
+    }
+    if (per_zero && k % per_zero == 0)
+      for (std::size_t i = 0; i < p.owned(); ++i) {
+        p.v[i].setZero();
+        p.omega[i].setZero();
+      }
+  }
+  rep.settle_time = bed.time() - t0;
+  rep.settle_wall_seconds = elapsed_since(t_wall);
+}
 }  // namespace detail
 
 /// Pours, trims and settles a bed (001 section 2.4) unless a cached one exists; writes the
-/// checkpoint bed_path(o). The bed simulation uses the table-2 material and dt_prepare.
+/// checkpoints poured_path(o) (before settling) and bed_path(o). The bed simulation uses the
+/// table-2 material and dt_prepare.
 inline BedReport prepare_bed(const ChannelOptions& o) {
   o.validate();
   const auto t_wall = std::chrono::steady_clock::now();
   BedReport rep;
-  const double dt = o.dt_prepare > 0.0 ? o.dt_prepare : channel_max_dt(o);
+  const double dt = prepare_dt(o);
   const auto path = bed_path(o);
   auto bed = make_channel(o, dt, false);
   if (std::filesystem::exists(path)) {
-    io::read_checkpoint(*bed, path.string());
+    const auto user = io::read_checkpoint(*bed, path.string());
     rep.from_cache = true;
-  } else {
-    // 1. Pour with e -> 0 and no rolling damping.
-    auto pour_sim = make_channel(o, dt, true);
-    const double r = o.radius;
-    geometry::Aabb<Dim3> region{Vec(r, r, o.depth + o.drop_height),
-                                Vec(o.width - r, o.length - r, o.depth + o.drop_height + o.region_height)};
-    const std::size_t total = o.pour_count();
-    const double rate = o.flux() * o.length * o.width;  // [particles/s]
-    scene::Pour<ChannelSim> pour(*pour_sim, region, scene::MonodisperseSizes(r), scene::StreamSchedule(rate, total), 0,
-                                 Vec(0, 0, -o.pour_speed), 0, o.seed);
-    io::ProgressReporter progress({.end_time = 0.0, .mode = o.progress ? io::ProgressMode::On : io::ProgressMode::Off,
-                                   .interval = 5.0, .label = "pour"});
-    const auto every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(1e-3 / dt)));
-    // Pour, then let the last particles land: stop when the mean kinetic energy per particle
-    // is below that of a particle moving at 1 cm/s (or 3 s after the last insertion is due).
-    const double m = channel_material(false).density * o.particle_volume();
-    const double quiet = 0.5 * m * 1e-4;
-    const double t_limit = static_cast<double>(total) / rate + 3.0;
-    while (pour_sim->time() < t_limit) {
-      pour.update();
-      pour_sim->run(every);
-      progress.update(pour_sim->step_count(), pour_sim->time());
-      if (pour.finished()) {
-        const double n = static_cast<double>(std::max<std::size_t>(1, pour_sim->particles().owned()));
-        if (pour_sim->kinetic_energy() / n < quiet) break;
-      }
+    if (user.size() >= 5) {
+      rep.poured = user[0];
+      rep.removed = user[1];
+      rep.pour_time = std::bit_cast<double>(user[2]);
+      rep.settled = user[3] != 0;
+      rep.settle_time = std::bit_cast<double>(user[4]);
     }
-    progress.finish(pour_sim->step_count(), pour_sim->time());
-    rep.poured = pour.inserted();
-    rep.pour_time = pour_sim->time();
-    // 2. Table-2 material: copy the bed at rest, remove what is above the fill height.
-    const auto& p = pour_sim->particles();
-    for (std::size_t i = 0; i < p.owned(); ++i)
-      if (p.x[i].z() <= o.depth - r) bed->add_particle(p.x[i], p.radius[i], 0);
-    rep.removed = p.owned() - bed->particles().owned();
-    pour_sim.reset();
-    // 3. Settle, zeroing velocities every 25 ms.
-    scene::SettleOptions so;
-    so.max_time = o.settle_time;
-    so.zero_velocity_interval = o.zero_interval;
-    so.kinetic_energy_per_particle = 0.0;  // run the whole settle_time
-    so.check_interval = 1e-3;
-    io::ProgressReporter p2({.end_time = o.settle_time, .mode = o.progress ? io::ProgressMode::On : io::ProgressMode::Off,
-                             .interval = 5.0, .label = "settle"});
-    so.on_check = [&](double t, double) { p2.update(bed->step_count(), t); };
-    const auto sr = scene::settle(*bed, so);
-    p2.finish(bed->step_count(), bed->time());
-    rep.settle_time = sr.time;
+  } else {
     std::filesystem::create_directories(o.bed_dir);
-    io::write_checkpoint(*bed, path.string());
+    const auto poured = poured_path(o);
+    const auto t_pour = std::chrono::steady_clock::now();
+    if (std::filesystem::exists(poured)) {
+      const auto user = io::read_checkpoint(*bed, poured.string());
+      rep.pour_from_cache = true;
+      if (user.size() >= 3) {
+        rep.poured = user[0];
+        rep.removed = user[1];
+        rep.pour_time = std::bit_cast<double>(user[2]);
+      }
+    } else {
+      detail::pour_bed(o, dt, *bed, rep);
+      io::write_checkpoint(*bed, poured.string(), {rep.poured, rep.removed, std::bit_cast<std::uint64_t>(rep.pour_time)});
+    }
+    rep.pour_wall_seconds = detail::elapsed_since(t_pour);
+    detail::settle_bed(o, *bed, rep);
+    io::write_checkpoint(*bed, path.string(),
+                         {rep.poured, rep.removed, std::bit_cast<std::uint64_t>(rep.pour_time), rep.settled ? 1u : 0u,
+                          std::bit_cast<std::uint64_t>(rep.settle_time)});
   }
   const auto& p = bed->particles();
   rep.particles = p.owned();
@@ -539,6 +724,7 @@ inline BedReport prepare_bed(const ChannelOptions& o) {
   bed->request_contacts();
   bed->step();
   rep.mean_overlap = detail::mean_overlap(*bed);
+  rep.quiet = measure_quietness(*bed, o.gravity);
   rep.wall_seconds = detail::elapsed_since(t_wall);
   return rep;
 }
@@ -607,7 +793,7 @@ inline ShockResult run_shock(const ChannelOptions& o, double v_p) {
   require(v_p > 0.0 && std::isfinite(v_p), "lunar_shock::run_shock", "v_p", v_p, "(0, inf) m/s");
   const auto t_wall = std::chrono::steady_clock::now();
   const double r = o.radius;
-  const double dt_bed = o.dt_prepare > 0.0 ? o.dt_prepare : channel_max_dt(o);
+  const double dt_bed = prepare_dt(o);
   auto sim_ptr = make_channel(o, dt_bed, false);
   ChannelSim& sim = *sim_ptr;
   io::read_checkpoint(sim, bed_path(o).string());
@@ -628,6 +814,7 @@ inline ShockResult run_shock(const ChannelOptions& o, double v_p) {
     const PairMaterial pm = sim.materials().pair(0, 0);
     const double m = channel_material(false).density * o.particle_volume();
     dt = std::min(channel_max_dt(o), hertz_collision_time(0.5 * m, pm.E_eff, 0.5 * r, v_p) / 20.0);
+    if (o.dt_max > 0.0) dt = std::min(dt, o.dt_max);
     if (o.bender) dt = std::min(dt, 1.0 / (20.0 * o.bender_frequency));
   }
   sim.set_dt(dt);
@@ -702,7 +889,11 @@ inline ShockResult run_shock(const ChannelOptions& o, double v_p) {
                                         Dim3::IVec(1, ny, 1));
   const auto heights = [&]() {
     std::vector<double> h(static_cast<std::size_t>(ny));
-    const auto ch = analysis::bed_height(sim.frame(), columns, 2);
+    // Without the contacts: after remove_above on a recording step, the frame's contact
+    // records still name the removed particles (engine: remove_particles keeps them).
+    auto fr = sim.frame();
+    fr.contacts.clear();
+    const auto ch = analysis::bed_height(fr, columns, 2);
     for (int j = 0; j < ny; ++j) h[static_cast<std::size_t>(j)] = ch[static_cast<std::size_t>(j)].height;
     return h;
   };

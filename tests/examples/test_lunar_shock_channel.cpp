@@ -16,6 +16,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <vector>
 
 #include "../../examples/lunar_shock_channel/scene.hpp"
@@ -71,4 +72,60 @@ TEST_CASE("lunar shock channel: chain pre-load inverts the sound speed", "[examp
   GridOptions bad;
   bad.length = 3;
   CHECK_THROWS_AS(run_grid(bad, 1.0), granule::InvalidParameter);
+}
+
+TEST_CASE("lunar shock channel: quietness is the net force in particle weights", "[examples][lunar_shock_channel]") {
+  // One particle in free fall under lunar gravity feels exactly its weight; at rest on the
+  // floor, after its contact has rung down (e = 0.5), next to nothing.
+  ChannelOptions o;
+  o.length = 0.03;
+  o.depth = 0.01;
+  o.width = 0.01;
+  auto sim = make_channel(o, channel_max_dt(o), false);
+  sim->add_particle(Vec(0.005, 0.015, 0.005), o.radius, 0);
+  sim->step();
+  const Quietness falling = measure_quietness(*sim, o.gravity);
+  CHECK(falling.force_mean == Approx(1.0).epsilon(1e-12));
+  CHECK(falling.force_median == Approx(1.0).epsilon(1e-12));
+  sim->run_until(0.5);
+  const Quietness resting = measure_quietness(*sim, o.gravity);
+  CHECK(resting.force_mean < 1e-3);
+  CHECK(resting.max_speed < 1e-3);
+}
+
+TEST_CASE("lunar shock channel: a small bed settles until quiet and is cached", "[examples][lunar_shock_channel]") {
+  ChannelOptions o;
+  o.length = 0.03;
+  o.depth = 0.0075;
+  o.width = 0.01;
+  o.drop_height = 0.005;
+  o.region_height = 0.01;
+  o.settle_time = 0.5;
+  o.settle_force = 0.01;
+  o.progress = false;
+  o.bed_dir = std::filesystem::path("lunar_shock_channel_test_beds");
+  std::filesystem::remove_all(o.bed_dir);
+  const BedReport a = prepare_bed(o);
+  CHECK_FALSE(a.from_cache);
+  CHECK_FALSE(a.pour_from_cache);
+  REQUIRE(a.particles > 100);
+  CHECK(a.settled);
+  CHECK(a.settle_time < o.settle_time);
+  REQUIRE_FALSE(a.settle_history.empty());
+  CHECK(a.settle_history.back().force_mean < o.settle_force);
+  CHECK(a.quiet.force_mean < 2.0 * o.settle_force);  // one step after the saved state
+  // Another settling reuses the pour; the same options reuse the settled bed.
+  ChannelOptions b = o;
+  b.settle_force = 0.03;
+  const BedReport rb = prepare_bed(b);
+  CHECK(rb.pour_from_cache);
+  CHECK(rb.poured == a.poured);
+  CHECK(rb.settled);
+  const BedReport ra = prepare_bed(o);
+  CHECK(ra.from_cache);
+  CHECK(ra.particles == a.particles);
+  CHECK(ra.settled);
+  CHECK(ra.settle_time == a.settle_time);
+  CHECK(ra.quiet.force_mean == Approx(a.quiet.force_mean).epsilon(1e-12));
+  std::filesystem::remove_all(o.bed_dir);
 }
