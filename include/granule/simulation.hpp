@@ -198,7 +198,9 @@ class Simulation {
       }
   }
 
-  /// Removes the particles for which pred(slot) is true (e.g. above a fill height).
+  /// Removes the particles for which pred(slot) is true (e.g. above a fill height). The contact
+  /// records of the current step name slots that no longer hold the same particles, so they are
+  /// dropped: frame() then has no contacts until the next recorded step.
   template <class Pred>
   std::size_t remove_particles(Pred&& pred) {
     particles_.clear_ghosts();
@@ -210,6 +212,10 @@ class Simulation {
     }
     particles_.remove_if_not(keep);
     list_valid_ = false;
+    if (removed > 0) {
+      records_.clear();
+      records_step_ = std::numeric_limits<std::uint64_t>::max();
+    }
     return removed;
   }
 
