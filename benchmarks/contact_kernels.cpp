@@ -102,6 +102,7 @@ Batch<D> make_batch(std::size_t n, double thickness, std::uint64_t seed) {
     g.vn = g.v_rel.dot(nrm);
     g.vt = g.v_rel - g.vn * nrm;
     g.omega_rel = w_i - w_j;
+    g.damp_at_kinematic_velocity();
     const double k1 = D::inertia_factor + 1.0;
     g.i_roll = 1.0 / (1.0 / (k1 * m_i * r_i * r_i) + 1.0 / (k1 * m_j * r_j * r_j));
     g.dt = 1.0e-6;  // [s]
@@ -112,6 +113,7 @@ Batch<D> make_batch(std::size_t n, double thickness, std::uint64_t seed) {
     h.vn = -g.vn;
     h.vt = -g.vt;
     h.omega_rel = -g.omega_rel;
+    h.damp_at_kinematic_velocity();
   }
   return b;
 }

@@ -25,11 +25,12 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-VV, SE = 2.0, 1.0
+VV, SE, PD = 2.0, 1.0, 3.0  # the CSV's `integrator` column
 # Symplectic Euler is drawn second, with large crosses, so that it stays visible where it lies
 # exactly on velocity Verlet (which it does for everything but the gas energy; see the doc).
 STYLE = {VV: dict(marker="o", ls="-", ms=4, label="velocity Verlet"),
-         SE: dict(marker="x", ls="--", ms=8, label="symplectic Euler")}
+         SE: dict(marker="x", ls="--", ms=8, label="symplectic Euler"),
+         PD: dict(marker="s", ls="-.", ms=4, label="Verlet, predicted damping")}
 
 
 def read(path):
@@ -84,8 +85,8 @@ def panels(fig_title, xkey, xlabel, d, path, by_cost):
                            (axes[0, 1], "duration_rel_error",
                             "head-on collision: contact duration |t - t_ref| / t_ref")):
         for e, c in colours.items():
-            for order in (VV, SE):
-                rows = select(col, restitution=e, integrator_order=order)
+            for order in (VV, SE, PD):
+                rows = select(col, restitution=e, integrator=order)
                 st = dict(STYLE[order])
                 st["label"] = f"e = {e:g}, {st['label']}, mean over phases"
                 line(ax, rows, xkey, key + "_mean", color=c, **st)
@@ -95,12 +96,12 @@ def panels(fig_title, xkey, xlabel, d, path, by_cost):
         ax.set_title(title, fontsize=10)
         if not by_cost:
             default_line(ax, dflt.get(0))
-            slopes(ax, select(col, restitution=0.5, integrator_order=VV), xkey, key + "_mean")
+            slopes(ax, select(col, restitution=0.5, integrator=VV), xkey, key + "_mean")
 
     # (c) gas energy
     ax = axes[1, 0]
     for order in (VV, SE):
-        rows = [r for r in select(gas, integrator_order=order) if r["stable"] == 1.0]
+        rows = [r for r in select(gas, integrator=order) if r["stable"] == 1.0]
         st = dict(STYLE[order])
         lab = st.pop("label")
         line(ax, rows, xkey, "max_rel_energy_error", color="C3", label=f"max |E - E0|/E0, {lab}", **st)
@@ -115,14 +116,14 @@ def panels(fig_title, xkey, xlabel, d, path, by_cost):
         ax.set_title("elastic gas: energy", fontsize=10)
     if not by_cost:
         default_line(ax, dflt.get(1))
-        slopes(ax, select(gas, integrator_order=SE), xkey, "fluctuation")
+        slopes(ax, select(gas, integrator=SE), xkey, "fluctuation")
 
     # (d) grid front speed
     ax = axes[1, 1]
     for case, c, name in ((0.0, "C0", "shock, v_im = 1 m/s"), (1.0, "C1", "acoustic, v_im = 1e-4 m/s")):
         for order in (VV, SE):
             # the reference run itself (smallest dt) is left out
-            rows = select(grid, case=case, integrator_order=order)[1:]
+            rows = select(grid, case=case, integrator=order)[1:]
             st = dict(STYLE[order])
             st["label"] = f"{name}, {st['label']}"
             line(ax, rows, xkey, "c_w_rel_error", color=c, **st)
@@ -131,7 +132,7 @@ def panels(fig_title, xkey, xlabel, d, path, by_cost):
     ax.set_title("struck 5x5 grid (001): |c_w - c_w(dt_min)| / c_w(dt_min)\n"
                  "(x axis: dt over the impact t_c, shock; over pi sqrt(m*/k_lin), acoustic)", fontsize=10)
     if not by_cost:
-        slopes(ax, [r for r in select(grid, case=1.0, integrator_order=VV) if r["dt_over_tc"] > 0.004], xkey,
+        slopes(ax, [r for r in select(grid, case=1.0, integrator=VV) if r["dt_over_tc"] > 0.004], xkey,
                 "c_w_rel_error")
 
     for ax in axes.flat:
@@ -154,8 +155,10 @@ def scheme_figure(d, path):
     for ax, key, title in ((axes[0], "e_error_mean", "restitution |e - e_requested|, mean over 32 phases"),
                            (axes[1], "duration_rel_error_mean", "contact duration |t - t_ref|/t_ref, mean over 32 phases")):
         for e, c in colours.items():
-            line(ax, select(col, restitution=e, integrator_order=VV), "dt_over_tc", key, color=c, marker="o",
+            line(ax, select(col, restitution=e, integrator=VV), "dt_over_tc", key, color=c, marker="o",
                  ls="none", ms=8, mfc="none", label=f"e = {e:g}: engine (velocity Verlet)")
+            line(ax, select(col, restitution=e, integrator=PD), "dt_over_tc", key, color=c, marker="D",
+                 ls="none", ms=6, mfc="none", label=f"e = {e:g}: engine (VelocityVerletPredictedDamping)")
             line(ax, select(sch, restitution=e, variant=0.0), "dt_over_tc", key, color=c, ls="-", lw=1,
                  label=f"e = {e:g}: engine's step re-done on the ODE")
             line(ax, select(sch, restitution=e, variant=1.0), "dt_over_tc", key, color=c, ls="--", marker="s", ms=3,
@@ -176,7 +179,7 @@ def scheme_figure(d, path):
     show = list(dict.fromkeys([stable[0]] + default[:1] + sweep[-1:]))
     for k, q in enumerate(show):
         for order in (VV, SE):
-            pts = [r for r in series if r["dt_over_tc"] == q and r["integrator_order"] == order and r["time_over_tc"] > 0]
+            pts = [r for r in series if r["dt_over_tc"] == q and r["integrator"] == order and r["time_over_tc"] > 0]
             ax.plot([r["time_over_tc"] for r in pts], [max(abs(r["rel_energy_error"]), 1e-12) for r in pts],
                     color=f"C{k}", ls="-" if order == VV else "--", lw=1,
                     label=f"dt = t_c/{1 / q:.1f}{' (default)' if q in default else ''}, "
@@ -201,7 +204,7 @@ def main():
     os.makedirs(out, exist_ok=True)
     d = {k: read(os.path.join(a.csv_dir, f"speed_vs_error_{k}.csv"))
          for k in ("collision", "gas", "gas_series", "grid", "default", "scheme")}
-    panels("Error against time step (integrator_order 2 = velocity Verlet, 1 = symplectic Euler)",
+    panels("Error against time step (velocity Verlet, symplectic Euler; collisions also Verlet with predicted damping)",
            "dt_over_tc", "dt / t_c", d, os.path.join(out, "speed_vs_error_dt.png"), False)
     panels("Error against cost: CPU time (CLOCK_PROCESS_CPUTIME_ID, 1 thread) per particle per simulated t_c",
            "cpu_per_particle_per_tc", "CPU seconds per particle per simulated t_c", d,

@@ -135,7 +135,7 @@ run_granule() {
   local tag="granule_${scene}_t${threads}" log
   log="$out_dir/$tag.log"
   if ! OMP_NUM_THREADS="$threads" "$GRANULE_SCENE_BENCH" --scene "$scene" --data "$data" \
-       --steps "$steps" --threads "$threads" >"$log" 2>&1; then
+       --steps "$steps" --threads "$threads" --end-state "$out_dir/$tag.end.data" >"$log" 2>&1; then
     echo "run_peers.sh: $tag failed, see $log" >&2
     echo "granule,$scene,NA,$threads,$steps,NA,NA,NA,NA"
     return 0

@@ -1,6 +1,6 @@
 // Speed against error (issue 6): how accurate granule is at a given time step, and what that
-// time step costs, for the two integrators (integrators::VelocityVerlet, the default, and
-// integrators::SymplecticEuler). Four measurements, each over a sweep of time steps given as
+// time step costs, for the integrators (integrators::VelocityVerlet, the default,
+// integrators::SymplecticEuler and integrators::VelocityVerletPredictedDamping). Four measurements, each over a sweep of time steps given as
 // a fraction of the Hertz collision time t_c (dt/t_c from 1/200 to 1/5) plus the steps the
 // engine's Rayleigh rule gives (s x t_R, s = 0.2 = SimulationConfig::time_step_safety, 0.5 and
 // 1, the largest value the config accepts):
@@ -61,7 +61,9 @@
 //   --quick     5 sweep steps (instead of 12), 2 Rayleigh steps (0.2 and 1 t_R), an 8^3 gas
 //               for 30 t_c (instead of 16^3 for 100 t_c); under ~20 s
 //   --out DIR   where the CSV files go (default: the current directory)
-// Output (CSV, units in the headers; integrator_order: 2 = VelocityVerlet, 1 = SymplecticEuler;
+// Output (CSV, units in the headers; integrator: 2 = VelocityVerlet, 1 = SymplecticEuler,
+// 3 = VelocityVerletPredictedDamping (collisions, and the gas for its cost: elastic contacts
+// have no dashpot, so its gas trajectory is velocity Verlet's exactly; not run on the grid);
 // safety: s of dt = s t_R, nan for the dt/t_c sweep):
 //   speed_vs_error_collision.csv, speed_vs_error_ode.csv, speed_vs_error_scheme.csv,
 //   speed_vs_error_gas.csv, speed_vs_error_gas_series.csv, speed_vs_error_grid.csv,
@@ -124,14 +126,20 @@ std::string utc_now() {
   return buf;
 }
 
+/// The CSV's `integrator` column: 2 = VelocityVerlet, 1 = SymplecticEuler,
+/// 3 = VelocityVerletPredictedDamping.
 template <class Integrator>
-constexpr double order_of() {
-  return std::is_same_v<Integrator, integrators::VelocityVerlet> ? 2.0 : 1.0;
+constexpr double integrator_code() {
+  if constexpr (std::is_same_v<Integrator, integrators::VelocityVerlet>) return 2.0;
+  if constexpr (std::is_same_v<Integrator, integrators::SymplecticEuler>) return 1.0;
+  return 3.0;
 }
 
 template <class Integrator>
 const char* short_name() {
-  return std::is_same_v<Integrator, integrators::VelocityVerlet> ? "VV" : "SE";
+  if constexpr (std::is_same_v<Integrator, integrators::VelocityVerlet>) return "VV";
+  if constexpr (std::is_same_v<Integrator, integrators::SymplecticEuler>) return "SE";
+  return "PD";
 }
 
 struct Options {
@@ -411,7 +419,7 @@ void run_collisions(const Options& o, io::CsvWriter& csv, io::CsvWriter& ode_csv
       const auto row = [&](auto tag, const ImpactStats& st) {
         using I = decltype(tag);
         const double cost = st.cpu_per_step / 2.0 * (tc / dt);  // per particle per simulated t_c
-        csv.write_row({order_of<I>(), e, sp.ratio, sp.safety, dt, tc, st.steps_per_contact, st.e_mean_error,
+        csv.write_row({integrator_code<I>(), e, sp.ratio, sp.safety, dt, tc, st.steps_per_contact, st.e_mean_error,
                        st.e_max_error, st.t_mean_error, st.t_max_error, st.cpu_per_step, cost});
         std::fprintf(stderr, "[collision] %s e = %.2f dt = t_c/%-7.2f e error %+.3e (max %.3e)  t_c error %+.3e "
                      "(max %.3e)  %.3g us/step\n", short_name<I>(), e, 1.0 / sp.ratio, st.e_mean_error, st.e_max_error,
@@ -419,6 +427,8 @@ void run_collisions(const Options& o, io::CsvWriter& csv, io::CsvWriter& ode_csv
       };
       row(integrators::VelocityVerlet{}, impact_sweep<integrators::VelocityVerlet>(e, dt, t_ref, min_cpu));
       row(integrators::SymplecticEuler{}, impact_sweep<integrators::SymplecticEuler>(e, dt, t_ref, min_cpu));
+      row(integrators::VelocityVerletPredictedDamping{},
+          impact_sweep<integrators::VelocityVerletPredictedDamping>(e, dt, t_ref, min_cpu));
       // The engine's step re-done on the scaled problem (variant 0), and with the damping
       // evaluated at a predicted end-of-step velocity (variant 1); same phases.
       for (int variant = 0; variant < 2; ++variant) {
@@ -569,17 +579,19 @@ void run_gas_sweep(const Options& o, io::CsvWriter& csv, io::CsvWriter& series_c
     const auto one = [&](auto tag) {
       using I = decltype(tag);
       const GasResult r = run_gas<I>(g, dt, t_over_tc * g.tc);
-      csv.write_row({order_of<I>(), sp.ratio, sp.safety, dt, g.tc, static_cast<double>(g.x.size()), t_over_tc * g.tc,
+      csv.write_row({integrator_code<I>(), sp.ratio, sp.safety, dt, g.tc, static_cast<double>(g.x.size()), t_over_tc * g.tc,
                      r.stable ? 1.0 : 0.0, static_cast<double>(r.steps), r.drift, r.drift * g.tc, r.max_dev,
                      r.final_dev, r.fluctuation, r.cpu, r.cpu_per_ps, r.cpu_per_ps * g.tc / dt, r.rebuilds,
                      r.contacts});
-      for (const auto& [t, y] : r.series) series_csv.write_row({order_of<I>(), sp.ratio, t / g.tc, y});
+      for (const auto& [t, y] : r.series) series_csv.write_row({integrator_code<I>(), sp.ratio, t / g.tc, y});
       std::fprintf(stderr, "[gas] %s dt = t_c/%-7.2f drift %+.3e per t_c  max|dE|/E %.3e  fluct %.3e  %.1f ns/ps  "
                    "rebuilds %.0f  contacts/particle %.3f  cpu %.2f s\n", short_name<I>(), 1.0 / sp.ratio,
                    r.drift * g.tc, r.max_dev, r.fluctuation, 1e9 * r.cpu_per_ps, r.rebuilds, r.contacts, r.cpu);
     };
     one(integrators::VelocityVerlet{});
     one(integrators::SymplecticEuler{});
+    // Elastic gas: the same trajectory as velocity Verlet (no dashpot); run for its cost.
+    one(integrators::VelocityVerletPredictedDamping{});
   }
 }
 
@@ -725,7 +737,7 @@ int main(int argc, char** argv) {
                 default_safety());
 
     io::CsvWriter collision(o.out / "speed_vs_error_collision.csv",
-                            {{"integrator_order", ""}, {"restitution", ""}, {"dt_over_tc", ""}, {"safety", ""},
+                            {{"integrator", ""}, {"restitution", ""}, {"dt_over_tc", ""}, {"safety", ""},
                              {"dt", "s"}, {"tc", "s"}, {"steps_per_contact", ""}, {"e_error_mean", ""},
                              {"e_error_max", ""}, {"duration_rel_error_mean", ""}, {"duration_rel_error_max", ""},
                              {"cpu_per_step", "s"}, {"cpu_per_particle_per_tc", "s"}});
@@ -740,19 +752,19 @@ int main(int argc, char** argv) {
     run_collisions(o, collision, ode, scheme);
 
     io::CsvWriter gas(o.out / "speed_vs_error_gas.csv",
-                      {{"integrator_order", ""}, {"dt_over_tc", ""}, {"safety", ""}, {"dt", "s"}, {"tc", "s"},
+                      {{"integrator", ""}, {"dt_over_tc", ""}, {"safety", ""}, {"dt", "s"}, {"tc", "s"},
                        {"particles", ""}, {"simulated_time", "s"}, {"stable", ""}, {"steps", ""}, {"drift", "1/s"},
                        {"drift_per_tc", ""}, {"max_rel_energy_error", ""}, {"final_rel_energy_error", ""},
                        {"fluctuation", ""}, {"cpu", "s"}, {"cpu_per_particle_step", "s"},
                        {"cpu_per_particle_per_tc", "s"}, {"rebuilds", ""}, {"contacts_per_particle", ""}});
     io::CsvWriter gas_series(o.out / "speed_vs_error_gas_series.csv",
-                             {{"integrator_order", ""}, {"dt_over_tc", ""}, {"time_over_tc", ""},
+                             {{"integrator", ""}, {"dt_over_tc", ""}, {"time_over_tc", ""},
                               {"rel_energy_error", ""}});
     double gas_tc = 0.0, gas_tr = 0.0;
     run_gas_sweep(o, gas, gas_series, gas_tc, gas_tr);
 
     io::CsvWriter grid(o.out / "speed_vs_error_grid.csv",
-                       {{"case", ""}, {"integrator_order", ""}, {"v_im", "m/s"}, {"dt_over_tc", ""}, {"safety", ""},
+                       {{"case", ""}, {"integrator", ""}, {"v_im", "m/s"}, {"dt_over_tc", ""}, {"safety", ""},
                         {"dt", "s"}, {"tc", "s"}, {"c_w", "m/s"}, {"c_w_uncertainty", "m/s"}, {"c_w_reference", "m/s"},
                         {"c_w_rel_error", ""}, {"steps", ""}, {"cpu", "s"},
                         {"cpu_per_particle_step", "s"}, {"cpu_per_particle_per_tc", "s"}});

@@ -161,6 +161,7 @@ contact::ContactGeometry<D> make_pair_geometry(const typename D::Vec& xi, const 
   g.vn = g.v_rel.dot(g.n);
   g.vt = g.v_rel - g.vn * g.n;
   g.omega_rel = wi - wj;
+  g.damp_at_kinematic_velocity();
   const double k1 = D::inertia_factor + 1.0;
   g.i_roll = 1.0 / (1.0 / (k1 * mi * ri * ri) + 1.0 / (k1 * mj * rj * rj));
   g.dt = dt;
@@ -176,23 +177,24 @@ struct CollisionMeasure {
   long steps = 0;            ///< steps taken
 };
 
-/// Head-on collision through Simulation<D, Model>: two equal particles of radius r approaching
-/// at relative speed v along x (wall = false), or one particle falling at v onto a plane wall
-/// with normal "up" made of the same material (wall = true). No gravity. dt = t_ref / steps,
-/// with t_ref a reference contact time supplied by the caller. The contact starts at the exact
-/// time gap / v; its end is interpolated linearly on the overlap between two steps.
-template <class D, class Model>
+/// Head-on collision through Simulation<D, Model, VerletList, Integrator>: two equal particles of
+/// radius r approaching at relative speed v along x (wall = false), or one particle falling at v
+/// onto a plane wall with normal "up" made of the same material (wall = true). No gravity.
+/// dt = t_ref / steps, with t_ref a reference contact time supplied by the caller. The contact
+/// starts at the exact time gap / v, gap = (3 + phase) v dt, i.e. at `phase` of the 4th step;
+/// its end is interpolated linearly on the overlap between two steps.
+template <class D, class Model, class Integrator = integrators::VelocityVerlet>
 CollisionMeasure run_head_on(const Material& mat, double r, double v, bool wall, double t_ref,
-                             int steps, double thickness = 1.0) {
+                             int steps, double thickness = 1.0, double phase = 0.3) {
   using Vec = typename D::Vec;
   SimulationConfig<D> cfg;
   cfg.domain.lo = Vec::Constant(-20.0 * r);
   cfg.domain.hi = Vec::Constant(20.0 * r);
   cfg.dt = t_ref / steps;
   cfg.thickness = thickness;
-  Simulation<D, Model> sim(cfg);
+  Simulation<D, Model, neighbours::VerletList, Integrator> sim(cfg);
   const auto pm = sim.add_material(mat);
-  const double gap = 3.3 * v * cfg.dt;  // contact starts inside the 4th step
+  const double gap = (3.0 + phase) * v * cfg.dt;  // contact starts inside the 4th step
   std::uint64_t a = 0, b = 0;
   Vec ax;
   if (wall) {

@@ -74,3 +74,30 @@ TEMPLATE_TEST_CASE("request_contacts before the first step is honoured", "[conta
   sim.step();
   CHECK(sim.frame().contacts.size() == 1);
 }
+
+// Regression test of an engine defect found by the lunar_shock_channel example (2026-12-01):
+// remove_particles kept the contact records of the step, which name particle slots, so frame()
+// handed out contacts of removed particles (and analysis::bed_height threw on them). The records
+// must be dropped with the particles and come back at the next recorded step.
+TEST_CASE("Removing particles drops the contact records of the step", "[contact][records]") {
+  using D = Dim3;
+  using Vec = D::Vec;
+  const double r = 2.0e-3, overlap = 1.0e-5;
+  auto sim = resting_particle<D>(r, overlap);
+  const auto pm = 0u;
+  sim.add_particle(Vec(0.0, 0.0, 3.0 * r - 2.0 * overlap), r, pm);  // resting on the first one
+  sim.step();
+  sim.request_contacts();
+  sim.step();
+  REQUIRE(sim.frame().contacts.size() == 2);
+  const std::size_t removed = sim.remove_particles([&](std::size_t i) { return sim.particles().x[i].z() > 2.0 * r; });
+  REQUIRE(removed == 1);
+  const auto fr = sim.frame();
+  CHECK(fr.x.size() == 1);
+  CHECK(fr.contacts.empty());
+  sim.request_contacts();
+  sim.step();
+  const auto fr2 = sim.frame();
+  REQUIRE(fr2.contacts.size() == 1);
+  CHECK(fr2.contacts[0].i == 0u);
+}

@@ -40,6 +40,20 @@ struct ContactGeometry {
   /// with the pair. Filled only when a law asks for it (needs_twist); always 0 in 2D, where
   /// nothing turns about the in-plane normal.
   double twist = 0.0;
+  /// Velocities the dissipative terms (normal and tangential dashpots, rolling viscosity) act
+  /// on. The default integrator hands the same values as vn, vt and omega_rel (call
+  /// damp_at_kinematic_velocity()); integrators::VelocityVerletPredictedDamping hands the
+  /// relative velocity predicted for the end of the step (integrators/).
+  double vn_damp;       ///< [m/s]
+  Vec vt_damp;          ///< [m/s]
+  AngVec omega_rel_damp;  ///< [rad/s]
+
+  /// Dashpots see the same relative velocity as the springs (velocity Verlet).
+  void damp_at_kinematic_velocity() {
+    vn_damp = vn;
+    vt_damp = vt;
+    omega_rel_damp = omega_rel;
+  }
 };
 
 /// What the normal law hands to the later sub-models.

@@ -37,7 +37,7 @@ struct HertzNormal {
     const double sn = 2.0 * p.E_eff * a;                      // tangent stiffness [N/m]
     const double gamma = p.damping * std::sqrt(sn * g.m_eff); // [N s/m]
     const double fe = kn * g.overlap;
-    return {fe - gamma * g.vn, fe, kn};
+    return {fe - gamma * g.vn_damp, fe, kn};
   }
 
   /// Elastic energy stored at overlap delta: 8/15 E* sqrt(R*) delta^5/2 [J].

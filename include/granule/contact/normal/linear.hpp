@@ -36,7 +36,7 @@ struct LinearNormal {
   static NormalResult eval(const Params& p, const ContactGeometry<D>& g) {
     const double gamma = 2.0 * p.xi * std::sqrt(g.m_eff * p.k_n);
     const double fe = p.k_n * g.overlap;
-    return {fe - gamma * g.vn, fe, p.k_n};
+    return {fe - gamma * g.vn_damp, fe, p.k_n};
   }
 
   /// Elastic energy stored at overlap delta [J].

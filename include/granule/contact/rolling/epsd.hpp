@@ -53,7 +53,7 @@ struct EpsdRolling {
       return s.m_spring;  // fully mobilised: no damping (001 eq. A15)
     }
     const double cr = p.eta_r * 2.0 * std::sqrt(g.i_roll * kr);
-    return s.m_spring - cr * g.omega_rel;
+    return s.m_spring - cr * g.omega_rel_damp;
   }
   /// Energy stored in the rolling spring, |M_k|^2 / (2 k_r) [J].
   template <class D>

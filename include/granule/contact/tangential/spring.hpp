@@ -161,7 +161,7 @@ struct SpringTangential {
     double gamma_t = 0.0;
     const double kt = Stiffness::eval(p.stiffness, g, nr, gamma_t);
     const double limit = p.mu_s * std::abs(nr.fn);
-    const Vec damp = -gamma_t * g.vt;
+    const Vec damp = -gamma_t * g.vt_damp;
     if constexpr (force_history) {
       follow_contact<D>(s.fs, g);
       if (kt < s.kt_old) s.fs *= kt / s.kt_old;  // unloading: keep F_s / k_t
