@@ -14,6 +14,9 @@
 //
 // Reported: items_per_second = contact evaluations per second (CPU time); time_per_contact =
 // its inverse.
+// evaluate_packed/3D/<alias> (models with ContactModel::lanes): the same batch evaluated W
+// contacts per call over Dim3Lanes (core/lanes.hpp), geometries and histories held packed, i.e.
+// the law arithmetic of the engine's packed pair loop without its gather and scatter.
 // Argument: evaluations per iteration (half as many distinct contacts, each evaluated forward
 // and reversed); 4096 means about 0.8 MB of geometries and history, 65536 about 13 MB.
 #include <benchmark/benchmark.h>
@@ -177,11 +180,95 @@ void bm_evaluate(benchmark::State& st) {
   st.counters["state_bytes"] = static_cast<double>(Model::template has_state<D> ? sizeof(State) : 0);
 }
 
+/// Packs W scalar geometries (lanes k..k+W-1 of `g`) into one Dim3Lanes geometry.
+contact::ContactGeometry<Dim3Lanes> pack(const std::vector<contact::ContactGeometry<Dim3>>& g, std::size_t k) {
+  auto lane = [&](auto get) { return Lane([&](auto l) { return get(g[k + l]); }); };
+  auto lane3 = [&](auto get) {
+    return LaneVec3{lane([&](const auto& c) { return get(c)[0]; }), lane([&](const auto& c) { return get(c)[1]; }),
+                    lane([&](const auto& c) { return get(c)[2]; })};
+  };
+  contact::ContactGeometry<Dim3Lanes> p;
+  p.n = lane3([](const auto& c) { return c.n; });
+  p.overlap = lane([](const auto& c) { return c.overlap; });
+  p.distance = lane([](const auto& c) { return c.distance; });
+  p.r_i = lane([](const auto& c) { return c.r_i; });
+  p.r_j = lane([](const auto& c) { return c.r_j; });
+  p.arm_i = lane([](const auto& c) { return c.arm_i; });
+  p.arm_j = lane([](const auto& c) { return c.arm_j; });
+  p.r_eff = lane([](const auto& c) { return c.r_eff; });
+  p.m_eff = lane([](const auto& c) { return c.m_eff; });
+  p.v_rel = lane3([](const auto& c) { return c.v_rel; });
+  p.vn = lane([](const auto& c) { return c.vn; });
+  p.vt = lane3([](const auto& c) { return c.vt; });
+  p.omega_rel = lane3([](const auto& c) { return c.omega_rel; });
+  p.i_roll = lane([](const auto& c) { return c.i_roll; });
+  p.dt = lane([](const auto& c) { return c.dt; });
+  p.twist = lane([](const auto& c) { return c.twist; });
+  p.damp_at_kinematic_velocity();
+  return p;
+}
+
+template <class Model>
+[[gnu::flatten]] void sweep_packed(const typename Model::Params& prm,
+                                   const std::vector<contact::ContactGeometry<Dim3Lanes>>& geometry,
+                                   std::vector<typename Model::template State<Dim3Lanes>>& states,
+                                   LaneVec3& force_sum, LaneVec3& torque_sum) {
+  for (std::size_t k = 0; k < geometry.size(); ++k) {
+    const contact::ContactForce<Dim3Lanes> f = Model::evaluate(prm, geometry[k], states[k]);
+    force_sum += f.force;
+    torque_sum += f.torque_i;
+  }
+}
+
+template <class Model>
+void bm_evaluate_packed(benchmark::State& st) {
+  using State = typename Model::template State<Dim3>;
+  using PackedState = typename Model::template State<Dim3Lanes>;
+  const std::size_t half = static_cast<std::size_t>(st.range(0)) / 2;
+  const Material mat = kernel_material();
+  const typename Model::Params prm = Model::make(mix(mat, mat), 1.0);
+  const Batch<Dim3> batch = make_batch<Dim3>(half, 1.0, 20240611);
+  // The same warm-up as the scalar benchmark, then the loaded histories are packed.
+  std::vector<State> states(half);
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<int> loads(0, 499);
+  for (std::size_t k = 0; k < half; ++k) {
+    const int nload = loads(rng);
+    for (int s = 0; s < nload; ++s) benchmark::DoNotOptimize(Model::evaluate(prm, batch.forward[k], states[k]));
+  }
+  std::vector<contact::ContactGeometry<Dim3Lanes>> forward, backward;
+  std::vector<PackedState> packed(half / lane_width);
+  for (std::size_t k = 0; k + lane_width <= half; k += lane_width) {
+    forward.push_back(pack(batch.forward, k));
+    backward.push_back(pack(batch.backward, k));
+    if constexpr (Model::template has_state<Dim3>) {
+      const State* slots[lane_width];
+      for (std::size_t l = 0; l < lane_width; ++l) slots[l] = &states[k + l];
+      contact::PackedState<State, PackedState>::load(packed[k / lane_width], slots);
+    }
+  }
+  for (auto _ : st) {
+    LaneVec3 force_sum = Dim3Lanes::zero(), torque_sum = Dim3Lanes::zero();
+    sweep_packed<Model>(prm, forward, packed, force_sum, torque_sum);
+    sweep_packed<Model>(prm, backward, packed, force_sum, torque_sum);
+    benchmark::DoNotOptimize(force_sum);
+    benchmark::DoNotOptimize(torque_sum);
+    benchmark::ClobberMemory();
+  }
+  const double per_iter = static_cast<double>(2 * forward.size() * lane_width);
+  st.SetItemsProcessed(static_cast<std::int64_t>(st.iterations()) * static_cast<std::int64_t>(per_iter));
+  st.counters["time_per_contact"] = benchmark::Counter(
+      per_iter, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  st.counters["lanes"] = static_cast<double>(lane_width);
+}
+
 template <class Model>
 void register_model(const std::string& name) {
   for (const long batch : {4096L, 65536L}) {
     benchmark::RegisterBenchmark(("evaluate/2D/" + name).c_str(), bm_evaluate<Dim2, Model>)->Arg(batch);
     benchmark::RegisterBenchmark(("evaluate/3D/" + name).c_str(), bm_evaluate<Dim3, Model>)->Arg(batch);
+    if constexpr (Model::lanes)
+      benchmark::RegisterBenchmark(("evaluate_packed/3D/" + name).c_str(), bm_evaluate_packed<Model>)->Arg(batch);
   }
 }
 

@@ -29,7 +29,7 @@
 //       most --settle-max-time (0.5 s). The bed is written at rest (positions and radii) as a
 //       LAMMPS data file with io::write_lammps_data; the box of the file is the container.
 //   bench_scene_throughput --scene A|B --data FILE [--steps S] [--threads T] [--warmup W]
-//       [--repeat R] [--skin S_m] [--rolling-damping ETA] [--end-state FILE]
+//       [--repeat R] [--skin S_m] [--rolling-damping ETA] [--one-at-a-time] [--end-state FILE]
 //       reads the bed (walls on the faces of the file's box, periodic x for A), runs W warm-up
 //       steps (50), then times R runs (1) of S steps (1000) around Simulation::run only, with
 //       std::chrono::steady_clock (wall) and CLOCK_PROCESS_CPUTIME_ID (CPU of all threads), and
@@ -37,6 +37,7 @@
 //       contact, and one summary line of key=value pairs with particle_steps_per_s=<best of R>
 //       (the line benchmarks/run_peers.sh reads; end_state= when --end-state is given).
 //       --prepare with --steps also runs the timing from the file just written.
+//       --one-at-a-time times the scalar pair loop (SimulationConfig::packed_contacts = false).
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -77,6 +78,7 @@ struct Options {
   int repeat = 1;
   std::string prepare, data, end_state;
   double skin = -1.0;            // [m]; < 0: engine default 0.1 d
+  bool packed = true;            // SimulationConfig::packed_contacts of the timed run
   double rolling_damping = 0.0;  // [-] scene A eta_r
   double settle_ke = 5.0e-5;     // [-] settle threshold, KE per particle / (m g d)
   double settle_force = 5.0e-2;  // [-] settle threshold, mean |net force| / (m g)
@@ -245,8 +247,9 @@ template <class Model>
 std::unique_ptr<Sim<Model>> make_sim(const SceneSpec& s, const Material& material, const Box& box,
                                      double dt, double skin,
                                      const std::vector<Vec>& x, const std::vector<double>& r,
-                                     const std::vector<Vec>& v) {
+                                     const std::vector<Vec>& v, bool packed = true) {
   SimulationConfig<Dim3> cfg;
+  cfg.packed_contacts = packed;
   cfg.domain = domain_of<Dim3>(s, box);
   cfg.gravity = Vec(0.0, 0.0, -s.gravity);
   cfg.dt = dt;
@@ -457,15 +460,15 @@ int run_timed(const SceneSpec& s, const Options& o, const std::string& file) {
   Box box;
   box.lo = f.box_lo;
   box.hi = f.box_hi;
-  auto sim = make_sim<Model>(s, s.material, box, s.dt, o.skin, f.x, f.radius, f.v);
+  auto sim = make_sim<Model>(s, s.material, box, s.dt, o.skin, f.x, f.radius, f.v, o.packed);
   const std::size_t n = sim->particles().owned();
 
   print_machine();
   std::printf("scene=%c model=%s particles=%zu threads=%d dt=%g s skin=%s rolling_damping=%g "
-              "data=%s\n",
+              "pairs=%s data=%s\n",
               s.name, s.model.c_str(), n, o.threads, s.dt,
               o.skin < 0.0 ? "default(0.1 d)" : std::to_string(o.skin).c_str(),
-              s.material.rolling_damping, file.c_str());
+              s.material.rolling_damping, o.packed ? "packed" : "one-at-a-time", file.c_str());
 
   sim->run(o.warmup);
   double best = 0.0, best_seconds = 0.0, best_cpu = 0.0;
@@ -534,7 +537,7 @@ int run_scene(const SceneSpec& s, const Options& o) {
 [[noreturn]] void usage(const char* argv0, const std::string& why) {
   std::fprintf(stderr,
                "%s: %s\nusage: %s --scene A|B (--prepare FILE [--particles N] | --data FILE) "
-               "[--steps S] [--threads T] [--warmup W] [--repeat R] [--skin M] [--end-state FILE] "
+               "[--steps S] [--threads T] [--warmup W] [--repeat R] [--skin M] [--one-at-a-time] [--end-state FILE] "
                "[--rolling-damping ETA] [--settle-ke X] [--settle-force X] [--settle-max-time S] [--pour-friction MU] [--seed K]\n",
                argv0, why.c_str(), argv0);
   std::exit(2);
@@ -570,6 +573,8 @@ Options parse(int argc, char** argv) {
         o.data = value();
       } else if (a == "--end-state") {
         o.end_state = value();
+      } else if (a == "--one-at-a-time") {
+        o.packed = false;
       } else if (a == "--skin") {
         o.skin = std::stod(value());
       } else if (a == "--rolling-damping") {

@@ -30,6 +30,7 @@
 #include "granule/boundaries/body.hpp"
 #include "granule/boundaries/wall.hpp"
 #include "granule/contact/model.hpp"
+#include "granule/contact/packed.hpp"
 #include "granule/core/dimension.hpp"
 #include "granule/core/error.hpp"
 #include "granule/integrators/predicted_damping.hpp"
@@ -68,6 +69,11 @@ struct SimulationConfig {
   bool allow_large_time_step = false;  ///< explicit override of the time-step check
   /// An overlap above this fraction of the smaller radius stops the run as unstable.
   double max_overlap_ratio = 0.5;
+  /// Evaluate particle pairs W at a time in SIMD lanes where the model allows it (3D, every
+  /// slot written over D::Real, velocity Verlet-type dashpots; docs/architecture.md, "Packed
+  /// contacts"). The results agree with the one-at-a-time loop to rounding; false selects that
+  /// loop (tests compare the two).
+  bool packed_contacts = true;
 };
 
 template <class D, class Model, class Search = neighbours::VerletList,
@@ -86,6 +92,9 @@ class Simulation {
   /// Dashpots act on a predicted end-of-step velocity (integrators/predicted_damping.hpp).
   static constexpr bool kPredictDamping = integrators::predicts_damping_velocity<Integrator>();
   using List = neighbours::PairList<D, State, kHasState>;
+  /// The pair loop can run packed (contact/packed.hpp): 3D, a model written over D::Real, and
+  /// dashpots on the kinematic velocity.
+  static constexpr bool kPackable = D::dim == 3 && Model::lanes && !kPredictDamping;
   /// Below this many particles every loop runs on one thread: a parallel region costs more
   /// than it saves, and badly so when cores are oversubscribed.
   static constexpr std::size_t kParallelMinParticles = 2048;
@@ -551,6 +560,9 @@ class Simulation {
     std::vector<Vec> body_force;
     std::vector<AngVec> body_torque;
     std::vector<analysis::ContactRecord<D>> records;
+    // Packed pair loop: the layer's list entries that touch (with their rows) and those that do
+    // not (process_layer_packed).
+    std::vector<std::uint32_t> touching, touching_row, separated;
   };
 
   std::uint32_t add_material_impl(const Material& m, bool is_wall) {
@@ -869,6 +881,8 @@ class Simulation {
         const std::size_t l = colour + 3 * t;
         if (record) {
           process_layer<true>(l);
+        } else if (kPackable && config_.packed_contacts) {
+          process_layer_packed(l);
         } else {
           process_layer<false>(l);
         }
@@ -992,60 +1006,204 @@ class Simulation {
           acc.records.push_back(r);
         }
       }
-      for (std::uint32_t e = list_.wall_begin[i]; e < list_.wall_begin[i + 1]; ++e) {
-        const neighbours::WallEntry we = list_.wall[e];
-        // Several entries of one wall (features) are handled by the first of them.
-        if (e > list_.wall_begin[i] && list_.wall[e - 1].wall == we.wall) continue;
-        const Wall<D>& w = walls_[we.wall];
-        const Body<D>& b = bodies_[w.body];
-        const Params& prm = params_[p.material[i] * nm + w.material];
-        w.for_each_contact(b, p.x[i], p.radius[i], [&](const geometry::SurfacePoint<D>& sp) {
-          if (!wall_geometry(i, sp, b, g)) return;
-          // History slot of this feature among the row's entries for this wall.
-          std::uint32_t slot = std::numeric_limits<std::uint32_t>::max();
-          for (std::uint32_t k = e; k < list_.wall_begin[i + 1] && list_.wall[k].wall == we.wall; ++k)
-            if (list_.wall[k].feature == sp.feature) { slot = k; break; }
-          State tmp{};
-          State& s = (kHasState && slot != std::numeric_limits<std::uint32_t>::max()) ? list_.wall_state[slot] : tmp;
-          if (slot == std::numeric_limits<std::uint32_t>::max()) ++acc.missing_wall_features;
-          if (g.overlap > max_ratio * g.r_i && acc.bad_row == std::numeric_limits<std::size_t>::max()) {
-            acc.bad_row = i;
-            acc.bad_partner = we.wall;
-            acc.bad_overlap = g.overlap;
-            acc.bad_wall = true;
-          }
-          const contact::ContactForce<D> cf = Model::evaluate(prm, g, s);
-          fi += cf.force;
-          ti += cf.torque_i;
-          acc.body_force[w.body] -= cf.force;
-          const Vec arm = sp.point - b.pose.translation();
-          acc.body_torque[w.body] -= D::cross(arm, cf.force);
-          ++acc.contacts;
-          if (slot != std::numeric_limits<std::uint32_t>::max()) touched_mark(slot);
-          if constexpr (Record) {
-            analysis::ContactRecord<D> r;
-            r.i = static_cast<std::uint32_t>(i);
-            r.wall = we.wall;
-            r.normal = g.n;
-            r.branch = sp.point - p.x[i];
-            r.contact_point = sp.point;
-            r.overlap = g.overlap;
-            r.fn = cf.fn;
-            r.ft = cf.ft;
-            r.mu = materials_.pair(p.material[i], w.material).mu_s;
-            acc.records.push_back(r);
-          }
-        });
-        // Features of this wall not in contact this step lose their history.
-        if constexpr (kHasState) {
-          for (std::uint32_t k = e; k < list_.wall_begin[i + 1] && list_.wall[k].wall == we.wall; ++k) {
-            if (!touched_take(k)) list_.wall_state[k] = State{};
-          }
-        }
-      }
+      wall_contacts<Record>(i, acc, fi, ti);
       p.f[i] += fi;
       p.torque[i] += ti;
     }
+  }
+
+  // The walls of row i: forces and torques on i go to fi and ti, those on the bodies to acc.
+  template <bool Record>
+  void wall_contacts(std::size_t i, LayerAccumulator& acc, Vec& fi, AngVec& ti) {
+    auto& p = particles_;
+    const std::size_t nm = materials_.size();
+    const double max_ratio = config_.max_overlap_ratio;
+    contact::ContactGeometry<D> g;
+    for (std::uint32_t e = list_.wall_begin[i]; e < list_.wall_begin[i + 1]; ++e) {
+      const neighbours::WallEntry we = list_.wall[e];
+      // Several entries of one wall (features) are handled by the first of them.
+      if (e > list_.wall_begin[i] && list_.wall[e - 1].wall == we.wall) continue;
+      const Wall<D>& w = walls_[we.wall];
+      const Body<D>& b = bodies_[w.body];
+      const Params& prm = params_[p.material[i] * nm + w.material];
+      w.for_each_contact(b, p.x[i], p.radius[i], [&](const geometry::SurfacePoint<D>& sp) {
+        if (!wall_geometry(i, sp, b, g)) return;
+        // History slot of this feature among the row's entries for this wall.
+        std::uint32_t slot = std::numeric_limits<std::uint32_t>::max();
+        for (std::uint32_t k = e; k < list_.wall_begin[i + 1] && list_.wall[k].wall == we.wall; ++k)
+          if (list_.wall[k].feature == sp.feature) { slot = k; break; }
+        State tmp{};
+        State& s = (kHasState && slot != std::numeric_limits<std::uint32_t>::max()) ? list_.wall_state[slot] : tmp;
+        if (slot == std::numeric_limits<std::uint32_t>::max()) ++acc.missing_wall_features;
+        if (g.overlap > max_ratio * g.r_i && acc.bad_row == std::numeric_limits<std::size_t>::max()) {
+          acc.bad_row = i;
+          acc.bad_partner = we.wall;
+          acc.bad_overlap = g.overlap;
+          acc.bad_wall = true;
+        }
+        const contact::ContactForce<D> cf = Model::evaluate(prm, g, s);
+        fi += cf.force;
+        ti += cf.torque_i;
+        acc.body_force[w.body] -= cf.force;
+        const Vec arm = sp.point - b.pose.translation();
+        acc.body_torque[w.body] -= D::cross(arm, cf.force);
+        ++acc.contacts;
+        if (slot != std::numeric_limits<std::uint32_t>::max()) touched_mark(slot);
+        if constexpr (Record) {
+          analysis::ContactRecord<D> r;
+          r.i = static_cast<std::uint32_t>(i);
+          r.wall = we.wall;
+          r.normal = g.n;
+          r.branch = sp.point - p.x[i];
+          r.contact_point = sp.point;
+          r.overlap = g.overlap;
+          r.fn = cf.fn;
+          r.ft = cf.ft;
+          r.mu = materials_.pair(p.material[i], w.material).mu_s;
+          acc.records.push_back(r);
+        }
+      });
+      // Features of this wall not in contact this step lose their history.
+      if constexpr (kHasState) {
+        for (std::uint32_t k = e; k < list_.wall_begin[i + 1] && list_.wall[k].wall == we.wall; ++k) {
+          if (!touched_take(k)) list_.wall_state[k] = State{};
+        }
+      }
+    }
+  }
+
+  // process_layer<false> with the particle pairs evaluated W at a time (contact/packed.hpp);
+  // the walls stay one at a time. Pass 1 sorts the layer's entries into touching and separated
+  // ones without a branch (which pair touches is unpredictable: a third do not), then the
+  // touching pairs go through chunks. A chunk holds pairs of one parameter set: a change of
+  // material pair flushes it.
+  GRANULE_FLATTEN void process_layer_packed(std::size_t l) {
+    if constexpr (kPackable) {
+      using Chunk = contact::PairChunk<64>;
+      auto& p = particles_;
+      auto& acc = layer_acc_[l];
+      const std::size_t nm = materials_.size();
+      const std::size_t r0 = list_.layer_begin[l], r1 = list_.layer_begin[l + 1];
+      const std::size_t entries = list_.row_begin[r1] - list_.row_begin[r0];
+      acc.touching.resize(entries);
+      acc.touching_row.resize(entries);
+      acc.separated.resize(entries);
+      std::size_t nt = 0, ns = 0;
+      for (std::size_t i = r0; i < r1; ++i) {
+        const Vec xi = p.x[i];
+        const double ri = p.radius[i];
+        for (std::uint32_t e = list_.row_begin[i]; e < list_.row_begin[i + 1]; ++e) {
+          const std::uint32_t j = list_.nbr[e];
+          const double rs = ri + p.radius[j];
+          const bool touch = (xi - p.x[j]).squaredNorm() < rs * rs;
+          acc.touching[nt] = e;
+          acc.touching_row[nt] = static_cast<std::uint32_t>(i);
+          acc.separated[ns] = e;
+          nt += touch;
+          ns += !touch;
+        }
+      }
+      if constexpr (kHasState) {
+        for (std::size_t k = 0; k < ns; ++k) list_.state[acc.separated[k]] = State{};
+      }
+      Chunk chunk;
+      for (std::size_t k = 0; k < nt; ++k) {
+        const std::uint32_t e = acc.touching[k], i = acc.touching_row[k], j = list_.nbr[e];
+        const std::size_t prm = p.material[i] * nm + p.material[j];
+        if (chunk.count > 0 && (chunk.full() || prm != chunk.params)) evaluate_chunk(chunk, acc);
+        chunk.params = prm;
+        const std::size_t c = chunk.count++;
+        chunk.i[c] = i;
+        chunk.j[c] = j;
+        chunk.entry[c] = e;
+        auto& in = chunk.in;
+        const Vec d = p.x[i] - p.x[j];
+        const Vec dv = p.v[i] - p.v[j];
+        for (int q = 0; q < 3; ++q) {
+          in[Chunk::dx + q][c] = d[q];
+          in[Chunk::dvx + q][c] = dv[q];
+          in[Chunk::wix + q][c] = p.omega[i][q];
+          in[Chunk::wjx + q][c] = p.omega[j][q];
+        }
+        in[Chunk::ri][c] = p.radius[i];
+        in[Chunk::rj][c] = p.radius[j];
+        in[Chunk::inv_mi][c] = p.inv_mass[i];
+        in[Chunk::inv_mj][c] = p.inv_mass[j];
+      }
+      if (chunk.count > 0) evaluate_chunk(chunk, acc);
+      for (std::size_t i = r0; i < r1; ++i) {
+        if (list_.wall_begin[i] == list_.wall_begin[i + 1]) continue;
+        Vec fi = Vec::Zero();
+        AngVec ti = D::zero_ang();
+        wall_contacts<false>(i, acc, fi, ti);
+        p.f[i] += fi;
+        p.torque[i] += ti;
+      }
+    }
+  }
+
+  // Passes 2 and 3 of the packed pair loop (contact/packed.hpp) for one chunk; empties it.
+  template <class Chunk>
+  void evaluate_chunk(Chunk& chunk, LayerAccumulator& acc) {
+    using LD = Dim3Lanes;
+    using PackedState = typename Model::template State<LD>;
+    auto& p = particles_;
+    const std::size_t n = p.owned();
+    const Params& prm = params_[chunk.params];
+    const double dt = setup_evaluation_ ? 0.0 : config_.dt;
+    const double max_ratio = config_.max_overlap_ratio;
+    chunk.pad();
+    contact::ContactGeometry<LD> g;
+    for (std::size_t k = 0; k < chunk.count; k += lane_width) {
+      const std::size_t valid = std::min(lane_width, chunk.count - k);
+      chunk.template geometry<Model::needs_rolling_inertia, Model::needs_twist>(k, dt, g);
+      const LaneMask deep = g.overlap > max_ratio * stdx::min(g.r_i, g.r_j);
+      if (stdx::any_of(deep) && acc.bad_row == std::numeric_limits<std::size_t>::max()) {
+        const std::size_t b = static_cast<std::size_t>(stdx::find_first_set(deep));
+        if (b < valid) {
+          const std::uint32_t j = chunk.j[k + b];
+          acc.bad_row = chunk.i[k + b];
+          acc.bad_partner = j < n ? j : p.ghost_owner[j - n];
+          acc.bad_overlap = g.overlap[b];
+          acc.bad_wall = false;
+        }
+      }
+      PackedState s{};
+      State* slots[lane_width];
+      if constexpr (kHasState) {
+        for (std::size_t q = 0; q < lane_width; ++q) slots[q] = &list_.state[chunk.entry[k + q]];
+        contact::PackedState<State, PackedState>::load(s, slots);
+      }
+      const contact::ContactForce<LD> cf = Model::evaluate(prm, g, s);
+      if constexpr (kHasState) contact::PackedState<State, PackedState>::store(s, slots, valid);
+      chunk.store3(Chunk::fx, k, cf.force);
+      chunk.store3(Chunk::tix, k, cf.torque_i);
+      chunk.store3(Chunk::tjx, k, cf.torque_j);
+    }
+    // Pass 3. Consecutive contacts of one row share i: its sums are written once per run (no
+    // entry of row i has j = i, so nothing else touches p.f[i] meanwhile).
+    std::uint32_t row = chunk.i[0];
+    Vec fi = Vec::Zero();
+    AngVec ti = D::zero_ang();
+    for (std::size_t c = 0; c < chunk.count; ++c) {
+      const std::uint32_t i = chunk.i[c], j = chunk.j[c];
+      if (i != row) {
+        p.f[row] += fi;
+        p.torque[row] += ti;
+        row = i;
+        fi.setZero();
+        ti.setZero();
+      }
+      const Vec f(chunk.out[Chunk::fx][c], chunk.out[Chunk::fy][c], chunk.out[Chunk::fz][c]);
+      fi += f;
+      p.f[j] -= f;
+      ti += AngVec(chunk.out[Chunk::tix][c], chunk.out[Chunk::tiy][c], chunk.out[Chunk::tiz][c]);
+      p.torque[j] += AngVec(chunk.out[Chunk::tjx][c], chunk.out[Chunk::tjy][c], chunk.out[Chunk::tjz][c]);
+    }
+    p.f[row] += fi;
+    p.torque[row] += ti;
+    acc.contacts += chunk.count;
+    chunk.count = 0;
   }
 
   // Touch marks for wall history entries (one bit per entry, owned by the entry's row).

@@ -13,6 +13,7 @@
 #include <limits>
 
 #include "granule/core/dimension.hpp"
+#include "granule/core/lanes.hpp"
 #include "granule/materials/pair_material.hpp"
 
 namespace granule::contact {
@@ -21,30 +22,31 @@ template <class D>
 struct ContactGeometry {
   using Vec = typename D::Vec;
   using AngVec = typename D::AngVec;
+  using Real = typename D::Real;  ///< double, or a pack of lanes (core/lanes.hpp)
   Vec n;                ///< unit normal, j -> i
-  double overlap;       ///< delta [m]
-  double distance;      ///< centre distance [m]; +inf for a wall (flat-contact limit)
-  double r_i, r_j;      ///< radii [m]; r_j = +inf for a wall
-  double arm_i, arm_j;  ///< distances from the centres of i and j to the contact point [m]
-  double r_eff;         ///< R* [m]
-  double m_eff;         ///< m* [kg]
+  Real overlap;       ///< delta [m]
+  Real distance;      ///< centre distance [m]; +inf for a wall (flat-contact limit)
+  Real r_i, r_j;      ///< radii [m]; r_j = +inf for a wall
+  Real arm_i, arm_j;  ///< distances from the centres of i and j to the contact point [m]
+  Real r_eff;         ///< R* [m]
+  Real m_eff;         ///< m* [kg]
   Vec v_rel;            ///< relative velocity at the contact point [m/s]
-  double vn;            ///< v_rel . n [m/s]
+  Real vn;            ///< v_rel . n [m/s]
   Vec vt;               ///< tangential part of v_rel [m/s]
   AngVec omega_rel;     ///< omega_i - omega_j [rad/s]
-  double i_roll;        ///< rolling inertia I_r, 1/I_r = sum 1/(I + m r^2) (Ai et al. 2011)
+  Real i_roll;        ///< rolling inertia I_r, 1/I_r = sum 1/(I + m r^2) (Ai et al. 2011)
                         ///< [kg m^2]; filled only when the rolling model asks for it
-  double dt;            ///< time step the history advances by [s] (0 in the set-up evaluation)
+  Real dt;            ///< time step the history advances by [s] (0 in the set-up evaluation)
   /// 3D: mean twist angle of the step about n, theta = (omega_i + omega_j)/2 . n dt (wall:
   /// (omega_i + Omega_wall)/2 . n dt) [rad]: the angle the tangent plane turns about the normal
   /// with the pair. Filled only when a law asks for it (needs_twist); always 0 in 2D, where
   /// nothing turns about the in-plane normal.
-  double twist = 0.0;
+  Real twist = 0.0;
   /// Velocities the dissipative terms (normal and tangential dashpots, rolling viscosity) act
   /// on. The default integrator hands the same values as vn, vt and omega_rel (call
   /// damp_at_kinematic_velocity()); integrators::VelocityVerletPredictedDamping hands the
   /// relative velocity predicted for the end of the step (integrators/).
-  double vn_damp;       ///< [m/s]
+  Real vn_damp;       ///< [m/s]
   Vec vt_damp;          ///< [m/s]
   AngVec omega_rel_damp;  ///< [rad/s]
 
@@ -56,12 +58,16 @@ struct ContactGeometry {
   }
 };
 
-/// What the normal law hands to the later sub-models.
-struct NormalResult {
-  double fn = 0.0;          ///< total normal force along n on i (repulsive > 0) [N]
-  double fn_elastic = 0.0;  ///< elastic part [N]
-  double kn = 0.0;          ///< secant normal stiffness fn_elastic / overlap [N/m]
+/// What the normal law hands to the later sub-models (R: double or Lane).
+template <class R>
+struct NormalResultT {
+  R fn = 0.0;          ///< total normal force along n on i (repulsive > 0) [N]
+  R fn_elastic = 0.0;  ///< elastic part [N]
+  R kn = 0.0;          ///< secant normal stiffness fn_elastic / overlap [N/m]
 };
+using NormalResult = NormalResultT<double>;
+template <class D>
+using NormalResultOf = NormalResultT<typename D::Real>;
 
 /// Total force of one contact. Torques include the lever arm of the tangential force and the
 /// rolling torque; torque_j is the torque on j (walls ignore it).
@@ -70,7 +76,7 @@ struct ContactForce {
   typename D::Vec force = D::zero();              ///< force on i [N]; j receives -force
   typename D::AngVec torque_i = D::zero_ang();    ///< [N m]
   typename D::AngVec torque_j = D::zero_ang();    ///< [N m]
-  double fn = 0.0;                                ///< normal force magnitude (signed) [N]
+  typename D::Real fn = 0.0;                      ///< normal force magnitude (signed) [N]
   typename D::Vec ft = D::zero();                 ///< tangential force on i [N]
 };
 

@@ -38,6 +38,15 @@ constexpr bool needs_twist() {
     return false;
   }
 }
+/// A slot law whose eval is written over D::Real declares `static constexpr bool lanes = true`.
+template <class Law>
+constexpr bool lanes() {
+  if constexpr (requires { Law::lanes; }) {
+    return Law::lanes;
+  } else {
+    return false;
+  }
+}
 }  // namespace detail
 
 template <class Normal, class Tangential = NoTangential, class Rolling = NoRolling,
@@ -71,6 +80,10 @@ struct ContactModel {
   static constexpr bool needs_rolling_inertia = Rolling::needs_inertia;
   /// True when a law turns its history about n (3D: ContactGeometry::twist must be filled).
   static constexpr bool needs_twist = detail::needs_twist<Tangential>() || detail::needs_twist<Rolling>();
+  /// True when every slot's eval is written over D::Real, so that the engine may evaluate W
+  /// contacts at once (Dim3Lanes, core/lanes.hpp).
+  static constexpr bool lanes = detail::lanes<Normal>() && detail::lanes<Tangential>() &&
+                                detail::lanes<Rolling>() && detail::lanes<Cohesion>();
 
   /// Names the composition; checkpoints refuse to load into a different model.
   static std::string signature() {
@@ -85,7 +98,7 @@ struct ContactModel {
 
   template <class D>
   static ContactForce<D> evaluate(const Params& p, const ContactGeometry<D>& g, State<D>& s) {
-    NormalResult nr = Normal::eval(p.normal, g);
+    NormalResultOf<D> nr = Normal::eval(p.normal, g);
     nr.fn -= Cohesion::eval(p.cohesion, g);
     const typename D::Vec ft = Tangential::eval(p.tangential, g, nr, s.tangential);
     const typename D::AngVec mr = Rolling::eval(p.rolling, g, nr, s.rolling);

@@ -21,6 +21,7 @@ template <>
 struct Dim<2> {
   static constexpr int dim = 2;
   static constexpr int rot_dim = 1;           // independent rotation components
+  using Real = double;                        // scalar of one contact (core/lanes.hpp: packed)
   using Vec = Eigen::Vector2d;                // position, velocity, force  [SI]
   using AngVec = double;                      // angular velocity, torque (z)
   using Mat = Eigen::Matrix2d;                // stress and strain-rate tensors
@@ -46,6 +47,7 @@ template <>
 struct Dim<3> {
   static constexpr int dim = 3;
   static constexpr int rot_dim = 3;
+  using Real = double;
   using Vec = Eigen::Vector3d;
   using AngVec = Eigen::Vector3d;
   using Mat = Eigen::Matrix3d;

@@ -10,9 +10,10 @@ struct NoCohesion {
   static std::string signature() { return "NoCohesion"; }
   struct Params {};
   static Params make(const PairMaterial&, double /*thickness*/) { return {}; }
+  static constexpr bool lanes = true;  ///< written over D::Real (core/lanes.hpp)
   template <class D>
-  static double eval(const Params&, const ContactGeometry<D>&) {
-    return 0.0;
+  static typename D::Real eval(const Params&, const ContactGeometry<D>&) {
+    return typename D::Real(0.0);
   }
 };
 

@@ -24,30 +24,37 @@ struct SjkrCohesion {
     double thickness = 1.0;  ///< 2D out-of-plane thickness [m]
   };
   static Params make(const PairMaterial& p, double thickness) { return {p.k_c, thickness}; }
+  static constexpr bool lanes = true;  ///< eval is written over D::Real (core/lanes.hpp)
 
   /// Squared radius of the contact circle [m^2].
   template <class D>
-  static double contact_radius_sq(const ContactGeometry<D>& g) {
-    if (!std::isfinite(g.distance)) return std::max(0.0, 2.0 * g.r_i * g.overlap - g.overlap * g.overlap);
-    const double d = g.distance, r1 = g.r_i, r2 = g.r_j;
-    const double a2 = (-d + r1 + r2) * (d - r1 + r2) * (d + r1 - r2) * (d + r1 + r2) / (4.0 * d * d);
-    return std::max(0.0, a2);
+  static typename D::Real contact_radius_sq(const ContactGeometry<D>& g) {
+    using std::isfinite;
+    using std::max;
+    using R = typename D::Real;
+    R a2 = 2.0 * g.r_i * g.overlap - g.overlap * g.overlap;  // a wall (flat-contact limit)
+    where_assign(isfinite(g.distance), a2, [&]() -> R {
+      const R d = g.distance, r1 = g.r_i, r2 = g.r_j;
+      return (-d + r1 + r2) * (d - r1 + r2) * (d + r1 - r2) * (d + r1 + r2) / (4.0 * d * d);
+    });
+    return max(R(0.0), a2);
   }
 
   /// Contact area A [m^2].
   template <class D>
-  static double area(const Params& p, const ContactGeometry<D>& g) {
-    const double a2 = contact_radius_sq(g);
+  static typename D::Real area(const Params& p, const ContactGeometry<D>& g) {
+    using std::sqrt;
+    const typename D::Real a2 = contact_radius_sq(g);
     if constexpr (D::dim == 3) {
       return std::numbers::pi * a2;
     } else {
-      return 2.0 * std::sqrt(a2) * p.thickness;
+      return 2.0 * sqrt(a2) * p.thickness;
     }
   }
 
   /// Attractive force magnitude [N] (subtracted from the normal force).
   template <class D>
-  static double eval(const Params& p, const ContactGeometry<D>& g) {
+  static typename D::Real eval(const Params& p, const ContactGeometry<D>& g) {
     return p.k_c * area(p, g);
   }
 };

@@ -25,18 +25,21 @@ struct HertzNormal {
     double damping = 0.0;      ///< -2 sqrt(5/6) beta  (>= 0) [-]
   };
   static constexpr bool hertzian = true;
+  static constexpr bool lanes = true;  ///< eval is written over D::Real (core/lanes.hpp)
 
   static Params make(const PairMaterial& p) {
     return {p.E_eff, -2.0 * std::sqrt(5.0 / 6.0) * p.beta()};
   }
 
   template <class D>
-  static NormalResult eval(const Params& p, const ContactGeometry<D>& g) {
-    const double a = std::sqrt(g.r_eff * g.overlap);          // contact radius [m]
-    const double kn = 4.0 / 3.0 * p.E_eff * a;                // secant stiffness [N/m]
-    const double sn = 2.0 * p.E_eff * a;                      // tangent stiffness [N/m]
-    const double gamma = p.damping * std::sqrt(sn * g.m_eff); // [N s/m]
-    const double fe = kn * g.overlap;
+  static NormalResultOf<D> eval(const Params& p, const ContactGeometry<D>& g) {
+    using std::sqrt;
+    using R = typename D::Real;
+    const R a = sqrt(g.r_eff * g.overlap);           // contact radius [m]
+    const R kn = 4.0 / 3.0 * p.E_eff * a;            // secant stiffness [N/m]
+    const R sn = 2.0 * p.E_eff * a;                  // tangent stiffness [N/m]
+    const R gamma = p.damping * sqrt(sn * g.m_eff);  // [N s/m]
+    const R fe = kn * g.overlap;
     return {fe - gamma * g.vn_damp, fe, kn};
   }
 

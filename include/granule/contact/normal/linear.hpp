@@ -26,6 +26,7 @@ struct LinearNormal {
     double xi = 0.0;    ///< damping ratio [-]
   };
   static constexpr bool hertzian = false;
+  static constexpr bool lanes = true;  ///< eval is written over D::Real (core/lanes.hpp)
 
   static Params make(const PairMaterial& p) {
     const double l = std::log(p.restitution);
@@ -33,9 +34,11 @@ struct LinearNormal {
   }
 
   template <class D>
-  static NormalResult eval(const Params& p, const ContactGeometry<D>& g) {
-    const double gamma = 2.0 * p.xi * std::sqrt(g.m_eff * p.k_n);
-    const double fe = p.k_n * g.overlap;
+  static NormalResultOf<D> eval(const Params& p, const ContactGeometry<D>& g) {
+    using std::sqrt;
+    using R = typename D::Real;
+    const R gamma = 2.0 * p.xi * sqrt(g.m_eff * p.k_n);
+    const R fe = p.k_n * g.overlap;
     return {fe - gamma * g.vn_damp, fe, p.k_n};
   }
 

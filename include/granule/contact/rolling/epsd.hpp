@@ -37,23 +37,36 @@ struct EpsdRolling {
     typename D::AngVec m_spring = D::zero_ang();  ///< spring torque on i [N m]
   };
   static constexpr bool needs_inertia = true;
+  static constexpr bool lanes = true;  ///< eval is written over D::Real (core/lanes.hpp)
   static Params make(const PairMaterial& p) {
     return {p.mu_r, p.rolling_stiffness_factor, p.rolling_damping};
   }
 
   template <class D>
   static typename D::AngVec eval(const Params& p, const ContactGeometry<D>& g,
-                                 const NormalResult& nr, State<D>& s) {
-    const double kr = p.factor * nr.kn * p.mu_r * p.mu_r * g.r_eff * g.r_eff;
-    const double m_max = p.mu_r * g.r_eff * std::abs(nr.fn);
+                                 const NormalResultOf<D>& nr, State<D>& s) {
+    using std::abs;
+    using std::sqrt;
+    using R = typename D::Real;
+    using AngVec = typename D::AngVec;
+    const R kr = p.factor * nr.kn * p.mu_r * p.mu_r * g.r_eff * g.r_eff;
+    const R m_max = p.mu_r * g.r_eff * abs(nr.fn);
     s.m_spring -= kr * g.dt * g.omega_rel;
-    const double m2 = D::squared_norm(s.m_spring);
-    if (m2 >= m_max * m_max) {
-      s.m_spring *= m2 > 0.0 ? m_max / std::sqrt(m2) : 0.0;
-      return s.m_spring;  // fully mobilised: no damping (001 eq. A15)
-    }
-    const double cr = p.eta_r * 2.0 * std::sqrt(g.i_roll * kr);
-    return s.m_spring - cr * g.omega_rel_damp;
+    const R m2 = D::squared_norm(s.m_spring);
+    const auto mobilised = m2 >= m_max * m_max;
+    // Fully mobilised: the spring is held at the limit and there is no damping (001 eq. A15).
+    AngVec m = s.m_spring;
+    where_assign(mobilised, m, [&]() -> AngVec {
+      R scale = 0.0;
+      where_assign(m2 > 0.0, scale, [&]() -> R { return m_max / sqrt(m2); });
+      return s.m_spring * scale;
+    });
+    s.m_spring = m;
+    where_assign(!mobilised, m, [&]() -> AngVec {
+      const R cr = p.eta_r * 2.0 * sqrt(g.i_roll * kr);
+      return s.m_spring - cr * g.omega_rel_damp;
+    });
+    return m;
   }
   /// Energy stored in the rolling spring, |M_k|^2 / (2 k_r) [J].
   template <class D>

@@ -12,9 +12,10 @@ struct NoRolling {
   template <class D>
   using State = NoState<D>;
   static constexpr bool needs_inertia = false;
+  static constexpr bool lanes = true;  ///< written over D::Real (core/lanes.hpp)
   static Params make(const PairMaterial&) { return {}; }
   template <class D>
-  static typename D::AngVec eval(const Params&, const ContactGeometry<D>&, const NormalResult&,
+  static typename D::AngVec eval(const Params&, const ContactGeometry<D>&, const NormalResultOf<D>&,
                                  State<D>&) {
     return D::zero_ang();
   }

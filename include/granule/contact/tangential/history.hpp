@@ -30,16 +30,18 @@
 
 #include "granule/contact/geometry.hpp"
 #include "granule/core/dimension.hpp"
+#include "granule/core/lanes.hpp"
 
 namespace granule::contact {
 
 template <class Vec>
 inline void project_history(Vec& s, const Vec& n, bool keep_length) {
-  const double before2 = s.squaredNorm();
+  using std::sqrt;
+  const auto before2 = s.squaredNorm();
   s -= s.dot(n) * n;
   if (keep_length) {
-    const double after2 = s.squaredNorm();
-    if (after2 > 0.0) s *= std::sqrt(before2 / after2);
+    const auto after2 = s.squaredNorm();
+    where_assign(after2 > 0.0, s, [&]() -> Vec { return s * sqrt(before2 / after2); });
   }
 }
 
@@ -50,18 +52,21 @@ inline void project_history(Vec& s, const Vec& n, bool keep_length) {
 /// from scalars while the vector is being formed.
 template <class D>
 inline void rotate_history(typename D::Vec& x, const ContactGeometry<D>& g) {
-  const double before2 = x.squaredNorm();
-  const double xn = x.dot(g.n);
+  using std::sqrt;
+  using R = typename D::Real;
+  const R before2 = x.squaredNorm();
+  const R xn = x.dot(g.n);
   if constexpr (D::dim == 3) {
-    const double t2 = g.twist * g.twist;
-    const double tan_twist = g.twist * (1.0 + t2 * (1.0 / 3.0 + t2 * (2.0 / 15.0 + t2 * (17.0 / 315.0))));
-    const double after2 = (before2 - xn * xn) * (1.0 + tan_twist * tan_twist);
-    const double scale = after2 > 0.0 ? std::sqrt(before2 / after2) : 1.0;
+    const R t2 = g.twist * g.twist;
+    const R tan_twist = g.twist * (1.0 + t2 * (1.0 / 3.0 + t2 * (2.0 / 15.0 + t2 * (17.0 / 315.0))));
+    const R after2 = (before2 - xn * xn) * (1.0 + tan_twist * tan_twist);
+    R scale = 1.0;
+    where_assign(after2 > 0.0, scale, [&]() -> R { return sqrt(before2 / after2); });
     x = scale * (x - xn * g.n + tan_twist * g.n.cross(x));
   } else {
     x -= xn * g.n;
-    const double after2 = x.squaredNorm();
-    if (after2 > 0.0) x *= std::sqrt(before2 / after2);
+    const R after2 = x.squaredNorm();
+    where_assign(after2 > 0.0, x, [&]() -> typename D::Vec { return x * sqrt(before2 / after2); });
   }
 }
 

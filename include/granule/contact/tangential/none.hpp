@@ -11,9 +11,10 @@ struct NoTangential {
   struct Params {};
   template <class D>
   using State = NoState<D>;
+  static constexpr bool lanes = true;  ///< written over D::Real (core/lanes.hpp)
   static Params make(const PairMaterial&) { return {}; }
   template <class D>
-  static typename D::Vec eval(const Params&, const ContactGeometry<D>&, const NormalResult&,
+  static typename D::Vec eval(const Params&, const ContactGeometry<D>&, const NormalResultOf<D>&,
                               State<D>&) {
     return D::zero();
   }

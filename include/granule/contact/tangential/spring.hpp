@@ -78,10 +78,11 @@ struct MindlinStiffness {
   }
   /// Returns k_t [N/m]; writes gamma_t [N s/m].
   template <class D>
-  static double eval(const Params& p, const ContactGeometry<D>& g, const NormalResult&,
-                     double& gamma_t) {
-    const double kt = 8.0 * p.G_eff * std::sqrt(g.r_eff * g.overlap);
-    gamma_t = p.damping * std::sqrt(kt * g.m_eff);
+  static typename D::Real eval(const Params& p, const ContactGeometry<D>& g, const NormalResultOf<D>&,
+                               typename D::Real& gamma_t) {
+    using std::sqrt;
+    const typename D::Real kt = 8.0 * p.G_eff * sqrt(g.r_eff * g.overlap);
+    gamma_t = p.damping * sqrt(kt * g.m_eff);
     return kt;
   }
 };
@@ -99,17 +100,18 @@ struct LinearStiffness {
     return {p.kt_ratio * p.k_n_linear, -l / std::sqrt(l * l + std::numbers::pi * std::numbers::pi)};
   }
   template <class D>
-  static double eval(const Params& p, const ContactGeometry<D>& g, const NormalResult&,
-                     double& gamma_t) {
-    gamma_t = 2.0 * p.xi * std::sqrt(g.m_eff * p.k_t);
-    return p.k_t;
+  static typename D::Real eval(const Params& p, const ContactGeometry<D>& g, const NormalResultOf<D>&,
+                               typename D::Real& gamma_t) {
+    using std::sqrt;
+    gamma_t = 2.0 * p.xi * sqrt(g.m_eff * p.k_t);
+    return typename D::Real(p.k_t);
   }
 };
 
 template <class D>
 struct SpringForceState {
-  typename D::Vec fs = D::zero();  ///< spring force on i [N]
-  double kt_old = 0.0;             ///< k_t of the last step [N/m] (0: new contact)
+  typename D::Vec fs = D::zero();    ///< spring force on i [N]
+  typename D::Real kt_old = 0.0;     ///< k_t of the last step [N/m] (0: new contact)
 };
 
 template <class D>
@@ -121,8 +123,12 @@ template <class Stiffness, Truncation Trunc = Truncation::Total,
           HistoryRotation Rot = HistoryRotation::ProjectKeepLengthTwist,
           SpringHistory History = Stiffness::default_history>
 struct SpringTangential {
+  using StiffnessLaw = Stiffness;
   static constexpr bool force_history = History == SpringHistory::IncrementalForce;
   static constexpr bool needs_twist = Rot == HistoryRotation::ProjectKeepLengthTwist;
+  /// The force form with total truncation is written over D::Real (core/lanes.hpp); the
+  /// other variants are scalar only.
+  static constexpr bool lanes = force_history && Trunc == Truncation::Total;
 
   /// Checkpoints carry this name. A token changes whenever the update it names changes, so
   /// that older checkpoints of a changed law are refused: the force form adds
@@ -155,27 +161,32 @@ struct SpringTangential {
   }
 
   template <class D>
-  static typename D::Vec eval(const Params& p, const ContactGeometry<D>& g, const NormalResult& nr,
+  static typename D::Vec eval(const Params& p, const ContactGeometry<D>& g, const NormalResultOf<D>& nr,
                               State<D>& s) {
+    using std::abs;
+    using std::sqrt;
     using Vec = typename D::Vec;
-    double gamma_t = 0.0;
-    const double kt = Stiffness::eval(p.stiffness, g, nr, gamma_t);
-    const double limit = p.mu_s * std::abs(nr.fn);
+    using R = typename D::Real;
+    R gamma_t = 0.0;
+    const R kt = Stiffness::eval(p.stiffness, g, nr, gamma_t);
+    const R limit = p.mu_s * abs(nr.fn);
     const Vec damp = -gamma_t * g.vt_damp;
     if constexpr (force_history) {
       follow_contact<D>(s.fs, g);
-      if (kt < s.kt_old) s.fs *= kt / s.kt_old;  // unloading: keep F_s / k_t
+      // Unloading: keep F_s / k_t.
+      where_assign(kt < s.kt_old, s.fs, [&]() -> Vec { return s.fs * (kt / s.kt_old); });
       s.kt_old = kt;
       const Vec fs_old = s.fs;
       s.fs -= (kt * g.dt) * g.vt;
       if constexpr (Trunc == Truncation::Total) {
         Vec ft = s.fs + damp;
-        const double f2 = ft.squaredNorm();
-        if (f2 > limit * limit) {
-          ft *= limit / std::sqrt(f2);
-          const double c = gamma_t > 0.0 ? gamma_t / (kt * g.dt + gamma_t) : 0.0;
-          s.fs = ft + c * (fs_old - ft);
-        }
+        const R f2 = ft.squaredNorm();
+        const auto sliding = f2 > limit * limit;
+        where_assign(sliding, ft, [&]() -> Vec { return ft * (limit / sqrt(f2)); });
+        where_assign(sliding, s.fs, [&]() -> Vec {
+          const R c = select(gamma_t > 0.0, gamma_t / (kt * g.dt + gamma_t), R(0.0));
+          return ft + c * (fs_old - ft);
+        });
         return ft;
       } else {
         const double f2 = s.fs.squaredNorm();

@@ -1,0 +1,137 @@
+#pragma once
+// Packed evaluation of 3D particle-pair contacts: W contacts through one law call.
+//
+// The engine's packed pair loop (Simulation, docs/architecture.md "Packed contacts") runs in
+// three passes over a chunk of a cell layer:
+//   1. scalar: test every list entry for touch (no square root); copy what the law needs of the
+//      touching pairs into this chunk, one array per quantity (struct of arrays);
+//   2. packed: build ContactGeometry<Dim3Lanes> for W contacts at a time, gather their
+//      histories, evaluate the model, scatter the histories back;
+//   3. scalar: add the forces and torques to both particles, in the order of the entries
+//      (a row's partners, and a particle's rows, may repeat within a pack).
+// Only the pass-2 arithmetic is new code; the laws are the same templates as for one contact.
+#include <array>
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+
+#include "granule/contact/geometry.hpp"
+#include "granule/core/lanes.hpp"
+
+namespace granule::contact {
+
+/// Copies a contact history between its stored form (State<Dim3>, doubles) and its packed form
+/// (State<Dim3Lanes>, one pack per double). Both are aggregates of the same members in the
+/// same order, so the packed form is the stored one with every double widened to a pack.
+template <class Stored, class Packed>
+struct PackedState {
+  static constexpr std::size_t doubles = sizeof(Stored) / sizeof(double);
+  // (Eigen's fixed-size vectors are plain arrays of doubles, but declare copy constructors, so
+  // they are not formally trivially copyable; the checkpoints copy them as bytes too.)
+  static_assert(sizeof(Stored) == doubles * sizeof(double), "a packed history must consist of doubles");
+  static_assert(sizeof(Packed) == doubles * sizeof(Lane),
+                "the packed history must widen every double of the stored one to a pack");
+
+  static void load(Packed& out, const Stored* const* in) {
+    alignas(Lane) double lanes[doubles][lane_width];
+    for (std::size_t l = 0; l < lane_width; ++l) {
+      double v[doubles];
+      std::memcpy(v, in[l], sizeof(Stored));
+      for (std::size_t k = 0; k < doubles; ++k) lanes[k][l] = v[k];
+    }
+    std::memcpy(static_cast<void*>(&out), lanes, sizeof(Packed));
+  }
+  /// Writes back the first `valid` lanes.
+  static void store(const Packed& in, Stored* const* out, std::size_t valid) {
+    alignas(Lane) double lanes[doubles][lane_width];
+    std::memcpy(lanes, static_cast<const void*>(&in), sizeof(Packed));
+    for (std::size_t l = 0; l < valid; ++l) {
+      double v[doubles];
+      for (std::size_t k = 0; k < doubles; ++k) v[k] = lanes[k][l];
+      std::memcpy(static_cast<void*>(out[l]), v, sizeof(Stored));
+    }
+  }
+};
+
+/// One chunk of touching pairs, struct of arrays. Capacity: a multiple of the lane width.
+template <std::size_t Capacity>
+struct PairChunk {
+  static_assert(Capacity % lane_width == 0);
+  static constexpr std::size_t capacity = Capacity;
+  // Inputs, copied in pass 1.
+  enum Field { dx, dy, dz, ri, rj, inv_mi, inv_mj, dvx, dvy, dvz, wix, wiy, wiz, wjx, wjy, wjz, fields };
+  alignas(64) double in[fields][Capacity];
+  std::uint32_t i[Capacity], j[Capacity], entry[Capacity];
+  // Outputs of pass 2: force on i, torques on i and j.
+  enum Out { fx, fy, fz, tix, tiy, tiz, tjx, tjy, tjz, outs };
+  alignas(64) double out[outs][Capacity];
+  std::size_t count = 0;
+  std::size_t params = 0;  ///< index of the pair parameters every contact of the chunk shares
+
+  bool full() const { return count == Capacity; }
+
+  /// Fills the unused lanes of the last pack with copies of the last contact, so that pass 2
+  /// computes on valid numbers everywhere (their results are dropped).
+  void pad() {
+    const std::size_t end = (count + lane_width - 1) / lane_width * lane_width;
+    for (std::size_t c = count; c < end; ++c) {
+      for (std::size_t f = 0; f < fields; ++f) in[f][c] = in[f][count - 1];
+      i[c] = i[count - 1];
+      j[c] = j[count - 1];
+      entry[c] = entry[count - 1];
+    }
+  }
+
+  Lane load(Field f, std::size_t k) const { return Lane(&in[f][k], stdx::vector_aligned); }
+  LaneVec3 load3(Field f, std::size_t k) const { return {load(f, k), load(Field(f + 1), k), load(Field(f + 2), k)}; }
+  void store(Out o, std::size_t k, const Lane& v) { v.copy_to(&out[o][k], stdx::vector_aligned); }
+  void store3(Out o, std::size_t k, const LaneVec3& v) {
+    store(o, k, v.x);
+    store(Out(o + 1), k, v.y);
+    store(Out(o + 2), k, v.z);
+  }
+
+  /// Geometry of the W contacts starting at k (as Simulation::pair_geometry for one contact).
+  /// `rolling_inertia` and `twist` say whether the model needs i_roll and the twist angle.
+  template <bool RollingInertia, bool Twist>
+  void geometry(std::size_t k, double dt, ContactGeometry<Dim3Lanes>& g) const {
+    using std::sqrt;
+    const LaneVec3 d = load3(dx, k);
+    const Lane r_i = load(ri, k), r_j = load(rj, k);
+    const Lane rs = r_i + r_j;
+    const Lane dist = sqrt(d.squaredNorm());
+    const LaneMask apart = dist > 0.0;
+    g.distance = dist;
+    // Coincident centres (dist = 0) get the normal +z, as in the scalar geometry.
+    g.n = {select(apart, d.x / dist, Lane(0.0)), select(apart, d.y / dist, Lane(0.0)),
+           select(apart, d.z / dist, Lane(1.0))};
+    g.overlap = rs - dist;
+    g.r_i = r_i;
+    g.r_j = r_j;
+    g.arm_i = r_i - 0.5 * g.overlap;
+    g.arm_j = r_j - 0.5 * g.overlap;
+    g.r_eff = r_i * r_j / rs;
+    const Lane im_i = load(inv_mi, k), im_j = load(inv_mj, k);
+    g.m_eff = 1.0 / (im_i + im_j);
+    const LaneVec3 w_i = load3(wix, k), w_j = load3(wjx, k);
+    g.v_rel = load3(dvx, k) - (g.arm_i * w_i.cross(g.n) + g.arm_j * w_j.cross(g.n));
+    g.vn = g.v_rel.dot(g.n);
+    g.vt = g.v_rel - g.vn * g.n;
+    g.omega_rel = w_i - w_j;
+    g.damp_at_kinematic_velocity();
+    if constexpr (RollingInertia) {
+      const double k1 = Dim3Lanes::inertia_factor + 1.0;
+      g.i_roll = 1.0 / (im_i / (k1 * r_i * r_i) + im_j / (k1 * r_j * r_j));
+    } else {
+      g.i_roll = 0.0;
+    }
+    g.dt = dt;
+    if constexpr (Twist) {
+      g.twist = 0.5 * (w_i + w_j).dot(g.n) * g.dt;
+    } else {
+      g.twist = 0.0;
+    }
+  }
+};
+
+}  // namespace granule::contact

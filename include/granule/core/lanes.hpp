@@ -1,0 +1,96 @@
+#pragma once
+// SIMD lanes for the contact laws.
+//
+// The pair loop is bound by its square roots and divisions (docs/performance.md, "Roofline"),
+// which a vector unit does 4-4.5x faster per element than the scalar one. So the laws that can
+// are written once over a *real type* R: `double` for one contact, or `Lane` -- a pack of W
+// doubles (std::experimental::simd at the machine's native width; W = 8 with AVX-512, 2 with
+// SSE2) -- for W contacts at once. Dim3Lanes is the dimension policy of the packed form: its
+// vectors hold one pack per axis (LaneVec3), with the few Eigen-like members the laws use
+// (dot, cross, squaredNorm), so a law reads the same for both.
+//
+// Laws are branch-free in the packed form: where a scalar law would write `if (c) x = f();`
+// it writes `where_assign(c, x, [&] { return f(); })`. For a scalar `c` that is the `if` itself
+// (no extra work on the scalar path); for a mask it evaluates f once when any lane needs it and
+// blends it into the lanes where c holds. Lanes where c is false may compute inf or NaN inside
+// f (e.g. a division by a zero stiffness); they are never blended in.
+#include <cstddef>
+#include <experimental/simd>
+#include <type_traits>
+
+namespace granule {
+
+namespace stdx = std::experimental;
+
+using Lane = stdx::native_simd<double>;
+using LaneMask = Lane::mask_type;
+inline constexpr std::size_t lane_width = Lane::size();
+
+/// A 3-vector of packs: component k of lane l is the k-th coordinate of contact l.
+struct LaneVec3 {
+  Lane x, y, z;
+
+  Lane dot(const LaneVec3& b) const { return x * b.x + y * b.y + z * b.z; }
+  Lane squaredNorm() const { return x * x + y * y + z * z; }
+  LaneVec3 cross(const LaneVec3& b) const {
+    return {y * b.z - z * b.y, z * b.x - x * b.z, x * b.y - y * b.x};
+  }
+  LaneVec3& operator+=(const LaneVec3& b) { x += b.x; y += b.y; z += b.z; return *this; }
+  LaneVec3& operator-=(const LaneVec3& b) { x -= b.x; y -= b.y; z -= b.z; return *this; }
+  LaneVec3& operator*=(const Lane& s) { x *= s; y *= s; z *= s; return *this; }
+  friend LaneVec3 operator+(const LaneVec3& a, const LaneVec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+  friend LaneVec3 operator-(const LaneVec3& a, const LaneVec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+  friend LaneVec3 operator-(const LaneVec3& a) { return {-a.x, -a.y, -a.z}; }
+  friend LaneVec3 operator*(const Lane& s, const LaneVec3& a) { return {s * a.x, s * a.y, s * a.z}; }
+  friend LaneVec3 operator*(const LaneVec3& a, const Lane& s) { return {a.x * s, a.y * s, a.z * s}; }
+  friend LaneVec3 operator*(double s, const LaneVec3& a) { return Lane(s) * a; }
+  friend LaneVec3 operator*(const LaneVec3& a, double s) { return a * Lane(s); }
+};
+
+/// Dimension policy of W packed 3D contacts (see Dim<3>, core/dimension.hpp).
+struct Dim3Lanes {
+  static constexpr int dim = 3;
+  using Real = Lane;
+  using Vec = LaneVec3;
+  using AngVec = LaneVec3;
+  static constexpr double inertia_factor = 0.4;
+  static Vec zero() { return {Lane(0.0), Lane(0.0), Lane(0.0)}; }
+  static AngVec zero_ang() { return zero(); }
+  static Vec cross(const Vec& a, const Vec& b) { return a.cross(b); }
+  static Real squared_norm(const AngVec& w) { return w.squaredNorm(); }
+};
+
+/// `if (c) target = f();` -- the scalar form.
+template <class T, class F>
+inline void where_assign(bool c, T& target, F&& f) {
+  if (c) target = static_cast<T>(f());
+}
+
+/// The packed form: f() is evaluated once if any lane of c is set and blended into those lanes.
+template <class F>
+inline void where_assign(const LaneMask& c, Lane& target, F&& f) {
+  if (stdx::any_of(c)) {
+    const Lane v = f();
+    stdx::where(c, target) = v;
+  }
+}
+
+template <class F>
+inline void where_assign(const LaneMask& c, LaneVec3& target, F&& f) {
+  if (stdx::any_of(c)) {
+    const LaneVec3 v = f();
+    stdx::where(c, target.x) = v.x;
+    stdx::where(c, target.y) = v.y;
+    stdx::where(c, target.z) = v.z;
+  }
+}
+
+/// c ? a : b, lane by lane (both are evaluated).
+inline double select(bool c, double a, double b) { return c ? a : b; }
+inline Lane select(const LaneMask& c, const Lane& a, const Lane& b) {
+  Lane r = b;
+  stdx::where(c, r) = a;
+  return r;
+}
+
+}  // namespace granule

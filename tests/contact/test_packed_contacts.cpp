@@ -1,0 +1,334 @@
+// Packed contacts (core/lanes.hpp, contact/packed.hpp): the laws evaluated W contacts at a time
+// must give what they give one contact at a time.
+//
+// Reference: the scalar evaluation itself (ContactModel<...>::evaluate with ContactGeometry<Dim3>),
+// which the physics tests of tests/contact check against analytic results. The packed form runs
+// the same law templates over Lane instead of double, so the two agree to rounding: the only
+// differences allowed are FMA contractions and the order of a few additions, i.e. a relative
+// 1e-12 on every force, torque and history component. A wrong blend (a branch taken in the
+// wrong lanes), a lane mix-up in the history gather/scatter or a geometry term built
+// differently shows up as an O(1) difference.
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cstring>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <granule/granule.hpp>
+
+using namespace granule;
+
+namespace {
+
+using Vec = Eigen::Vector3d;
+constexpr std::size_t W = lane_width;
+
+double uniform(std::mt19937_64& rng, double a, double b) {
+  return a + (b - a) * (static_cast<double>(rng() >> 11) * 0x1.0p-53);
+}
+
+Vec random_unit(std::mt19937_64& rng) {
+  Vec v;
+  do {
+    v = Vec(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1));
+  } while (v.squaredNorm() > 1.0 || v.squaredNorm() < 1e-4);
+  return v.normalized();
+}
+
+/// Relative difference with a floor: |a - b| / max(|a|, |b|, scale).
+double rel(double a, double b, double scale) { return std::abs(a - b) / std::max({std::abs(a), std::abs(b), scale}); }
+
+/// A pair of spheres in contact, as the engine's pass 1 would copy it into a chunk.
+struct PairInput {
+  Vec d, dv, wi, wj;
+  double ri, rj, inv_mi, inv_mj;
+};
+
+PairInput random_pair(std::mt19937_64& rng, double r, double speed) {
+  PairInput in;
+  in.ri = r * uniform(rng, 0.7, 1.3);
+  in.rj = r * uniform(rng, 0.7, 1.3);
+  const double overlap = uniform(rng, 1e-4, 2e-2) * std::min(in.ri, in.rj);
+  in.d = (in.ri + in.rj - overlap) * random_unit(rng);
+  in.dv = speed * uniform(rng, 0.0, 1.0) * random_unit(rng);
+  in.wi = (speed / r) * uniform(rng, 0.0, 1.0) * random_unit(rng);
+  in.wj = (speed / r) * uniform(rng, 0.0, 1.0) * random_unit(rng);
+  const double rho = 2500.0;  // [kg/m^3]
+  in.inv_mi = 1.0 / (rho * Dim3::volume(in.ri, 1.0));
+  in.inv_mj = uniform(rng, 0, 1) < 0.2 ? 0.0 : 1.0 / (rho * Dim3::volume(in.rj, 1.0));  // some frozen
+  return in;
+}
+
+/// The scalar geometry of one pair, written out as Simulation::pair_geometry builds it.
+template <class Model>
+contact::ContactGeometry<Dim3> scalar_geometry(const PairInput& in, double dt) {
+  contact::ContactGeometry<Dim3> g;
+  const double rs = in.ri + in.rj;
+  const double dist = in.d.norm();
+  g.distance = dist;
+  g.n = in.d / dist;
+  g.overlap = rs - dist;
+  g.r_i = in.ri;
+  g.r_j = in.rj;
+  g.arm_i = g.r_i - 0.5 * g.overlap;
+  g.arm_j = g.r_j - 0.5 * g.overlap;
+  g.r_eff = g.r_i * g.r_j / rs;
+  g.m_eff = 1.0 / (in.inv_mi + in.inv_mj);
+  g.v_rel = in.dv - (g.arm_i * in.wi.cross(g.n) + g.arm_j * in.wj.cross(g.n));
+  g.vn = g.v_rel.dot(g.n);
+  g.vt = g.v_rel - g.vn * g.n;
+  g.omega_rel = in.wi - in.wj;
+  g.damp_at_kinematic_velocity();
+  const double k1 = Dim3::inertia_factor + 1.0;
+  g.i_roll = Model::needs_rolling_inertia
+                 ? 1.0 / (in.inv_mi / (k1 * g.r_i * g.r_i) + in.inv_mj / (k1 * g.r_j * g.r_j))
+                 : 0.0;
+  g.dt = dt;
+  g.twist = Model::needs_twist ? 0.5 * (in.wi + in.wj).dot(g.n) * dt : 0.0;
+  return g;
+}
+
+template <class Model>
+using StoredState = typename Model::template State<Dim3>;
+
+/// A history as a contact that has been loaded for a while would carry: random, with a spring
+/// force up to twice the Coulomb limit (so some lanes slide, some stick), a previous stiffness
+/// above or below the current one (unloading or not) and a rolling spring up to twice its limit.
+/// `fresh` leaves it empty (a new contact).
+template <class Model>
+StoredState<Model> random_state(std::mt19937_64& rng, const contact::ContactGeometry<Dim3>& g,
+                                const typename Model::Params& prm, bool fresh) {
+  StoredState<Model> s{};
+  if (fresh) return s;
+  const auto nr = Model::NormalLaw::eval(prm.normal, g);
+  const double fn = std::abs(nr.fn) + 1e-3 * nr.fn_elastic;
+  if constexpr (requires { s.tangential.fs; }) {
+    s.tangential.fs = uniform(rng, 0.0, 2.0) * 0.5 * fn * random_unit(rng);
+    double gamma = 0.0;
+    const double kt = Model::TangentialLaw::StiffnessLaw::eval(prm.tangential.stiffness, g, nr, gamma);
+    s.tangential.kt_old = kt * uniform(rng, 0.8, 1.25);
+  }
+  if constexpr (requires { s.rolling.m_spring; }) {
+    s.rolling.m_spring = uniform(rng, 0.0, 2.0) * 0.5 * g.r_eff * fn * random_unit(rng);
+  }
+  return s;
+}
+
+template <class Model>
+std::vector<double> state_doubles(const StoredState<Model>& s) {
+  if constexpr (!Model::template has_state<Dim3>) return {};
+  std::vector<double> v(sizeof(s) / sizeof(double));
+  std::memcpy(v.data(), static_cast<const void*>(&s), sizeof(s));
+  return v;
+}
+
+template <class Model>
+void check_packed_against_scalar(double dt, std::uint64_t seed) {
+  using Chunk = contact::PairChunk<64>;
+  using PackedState = typename Model::template State<Dim3Lanes>;
+  Material m;
+  m.youngs_modulus = 5e6;
+  m.poisson_ratio = 0.3;
+  m.density = 2500.0;
+  m.restitution = 0.5;
+  m.friction = 0.5;
+  m.rolling_friction = 0.4;
+  m.rolling_damping = 0.3;
+  m.cohesion_energy_density = 1000.0;
+  m.normal_stiffness = 1e4;
+  const auto prm = Model::make(mix(m, m));
+  std::mt19937_64 rng(seed);
+  auto chunk = std::make_unique<Chunk>();
+  std::vector<PairInput> inputs;
+  std::vector<StoredState<Model>> states;
+  const double r = 1e-3;
+  for (std::size_t c = 0; c < Chunk::capacity - 3; ++c) {  // the last pack is padded
+    const PairInput in = random_pair(rng, r, c % 3 == 0 ? 0.01 : 1.0);
+    inputs.push_back(in);
+    const auto g = scalar_geometry<Model>(in, dt);
+    states.push_back(random_state<Model>(rng, g, prm, c % 5 == 0));
+    for (int q = 0; q < 3; ++q) {
+      chunk->in[Chunk::dx + q][c] = in.d[q];
+      chunk->in[Chunk::dvx + q][c] = in.dv[q];
+      chunk->in[Chunk::wix + q][c] = in.wi[q];
+      chunk->in[Chunk::wjx + q][c] = in.wj[q];
+    }
+    chunk->in[Chunk::ri][c] = in.ri;
+    chunk->in[Chunk::rj][c] = in.rj;
+    chunk->in[Chunk::inv_mi][c] = in.inv_mi;
+    chunk->in[Chunk::inv_mj][c] = in.inv_mj;
+    chunk->i[c] = chunk->j[c] = chunk->entry[c] = static_cast<std::uint32_t>(c);
+    ++chunk->count;
+  }
+  chunk->pad();
+  std::vector<StoredState<Model>> packed_states = states;
+  packed_states.resize(Chunk::capacity, StoredState<Model>{});
+  std::size_t sliding = 0, unloading = 0, fresh = 0, mobilised = 0;
+  double worst = 0.0;
+  for (std::size_t k = 0; k < chunk->count; k += W) {
+    const std::size_t valid = std::min(W, chunk->count - k);
+    contact::ContactGeometry<Dim3Lanes> g;
+    chunk->template geometry<Model::needs_rolling_inertia, Model::needs_twist>(k, dt, g);
+    PackedState s{};
+    StoredState<Model>* slots[W];
+    for (std::size_t q = 0; q < W; ++q) slots[q] = &packed_states[chunk->entry[k + q]];
+    if constexpr (Model::template has_state<Dim3>) contact::PackedState<StoredState<Model>, PackedState>::load(s, slots);
+    const auto cf = Model::evaluate(prm, g, s);
+    if constexpr (Model::template has_state<Dim3>)
+      contact::PackedState<StoredState<Model>, PackedState>::store(s, slots, valid);
+    for (std::size_t q = 0; q < valid; ++q) {
+      const std::size_t c = k + q;
+      const auto gs = scalar_geometry<Model>(inputs[c], dt);
+      StoredState<Model> ss = states[c];
+      const auto before = state_doubles<Model>(ss);
+      const auto cs = Model::evaluate(prm, gs, ss);
+      // Which branches this contact took (so the test proves it covered them).
+      if constexpr (requires { ss.tangential.fs; }) {
+        if (before[3] == 0.0) ++fresh;
+        const double limit = prm.tangential.mu_s * std::abs(cs.fn);
+        if (cs.ft.norm() > (1.0 - 1e-12) * limit && limit > 0.0) ++sliding;
+        double gamma = 0.0;
+        if (Model::TangentialLaw::StiffnessLaw::eval(prm.tangential.stiffness, gs, contact::NormalResult{}, gamma) < before[3]) ++unloading;
+      }
+      if constexpr (requires { ss.rolling.m_spring; }) {
+        const double mmax = prm.rolling.mu_r * gs.r_eff * std::abs(cs.fn);
+        if (ss.rolling.m_spring.norm() >= (1.0 - 1e-12) * mmax && mmax > 0.0) ++mobilised;
+      }
+      const double fscale = 1e-12 * std::max(std::abs(cs.fn), 1e-30);
+      const double tscale = fscale * r;
+      const double packed_f[3] = {cf.force.x[q], cf.force.y[q], cf.force.z[q]};
+      const double packed_ti[3] = {cf.torque_i.x[q], cf.torque_i.y[q], cf.torque_i.z[q]};
+      const double packed_tj[3] = {cf.torque_j.x[q], cf.torque_j.y[q], cf.torque_j.z[q]};
+      for (int a = 0; a < 3; ++a) {
+        worst = std::max(worst, rel(packed_f[a], cs.force[a], std::abs(cs.fn) * 1e-9));
+        CHECK(std::abs(packed_f[a] - cs.force[a]) <= 1e-12 * cs.force.norm() + fscale);
+        CHECK(std::abs(packed_ti[a] - cs.torque_i[a]) <= 1e-12 * cs.torque_i.norm() + tscale);
+        CHECK(std::abs(packed_tj[a] - cs.torque_j[a]) <= 1e-12 * cs.torque_j.norm() + tscale);
+      }
+      CHECK(std::abs(cf.fn[q] - cs.fn) <= 1e-12 * std::abs(cs.fn));
+      const auto after_scalar = state_doubles<Model>(ss);
+      const auto after_packed = state_doubles<Model>(packed_states[c]);
+      for (std::size_t a = 0; a < after_scalar.size(); ++a) {
+        INFO("contact " << c << ", history double " << a);
+        CHECK(std::abs(after_packed[a] - after_scalar[a]) <=
+              1e-12 * std::abs(after_scalar[a]) + 1e-12 * std::abs(before[a]) + 1e-300);
+      }
+    }
+  }
+  // The padded lanes of the last pack must not have been written back.
+  for (std::size_t c = chunk->count; c < Chunk::capacity; ++c)
+    CHECK(state_doubles<Model>(packed_states[c]) == state_doubles<Model>(StoredState<Model>{}));
+  INFO("lanes " << W << ": " << chunk->count << " contacts, sliding " << sliding << ", unloading "
+                << unloading << ", fresh " << fresh << ", rolling mobilised " << mobilised
+                << ", worst relative force difference " << worst);
+  if constexpr (requires(StoredState<Model> s) { s.tangential.fs; }) {
+    if (dt > 0.0) {
+      CHECK(sliding >= 3);
+      CHECK(sliding + 3 <= chunk->count);
+      CHECK(unloading >= 3);
+    }
+    CHECK(fresh >= 3);
+  }
+  if constexpr (requires(StoredState<Model> s) { s.rolling.m_spring; }) {
+    if (dt > 0.0) {
+      CHECK(mobilised >= 3);
+      CHECK(mobilised + 3 <= chunk->count);
+    }
+  }
+}
+
+struct ColumnResult {
+  std::vector<Vec> x, v;
+  std::size_t contacts = 0;
+};
+
+constexpr double kR = 1.0e-3;  // [m]
+
+/// ~1000 spheres (radii 0.8-1.2 kR) on a jittered lattice 2.1 kR apart, random velocities up to
+/// 0.3 m/s, gravity, walls on every face; `steps` steps of 1e-5 s.
+template <class Model>
+ColumnResult run_column(bool packed, std::size_t steps) {
+  SimulationConfig<Dim3> cfg;
+  const Vec len(8 * 2.1e-3, 8 * 2.1e-3, 16 * 2.1e-3);
+  cfg.domain.lo = Vec::Zero();
+  cfg.domain.hi = len;
+  cfg.dt = 1e-5;
+  cfg.gravity = Vec(0.0, 0.0, -100.0);  // [m/s^2]
+  cfg.packed_contacts = packed;
+  Simulation<Dim3, Model> sim(cfg);
+  Material m;
+  m.youngs_modulus = 1e7;
+  m.poisson_ratio = 0.3;
+  m.density = 2500.0;
+  m.restitution = 0.5;
+  m.friction = 0.5;
+  m.rolling_friction = 0.3;
+  m.rolling_damping = 0.3;
+  m.cohesion_energy_density = 2e4;
+  const auto mat = sim.add_material(m);
+  const auto wmat = sim.add_wall_material(m);
+  for (int k = 0; k < 3; ++k) {
+    sim.add_wall(geometry::PlaneShape<Dim3>(Vec::Zero(), Vec::Unit(k)), wmat);
+    sim.add_wall(geometry::PlaneShape<Dim3>(len, Vec(-Vec::Unit(k))), wmat);
+  }
+  std::mt19937_64 rng(5);
+  for (int a = 0; a < 8; ++a)
+    for (int b = 0; b < 8; ++b)
+      for (int c = 0; c < 16; ++c) {
+        Vec x = (Vec(a, b, c) + Vec::Constant(0.5)) * 2.1e-3;
+        for (int q = 0; q < 3; ++q) x[q] += uniform(rng, -0.03, 0.03) * kR;
+        const double r = uniform(rng, 0.8, 1.2) * kR;
+        sim.add_particle(x, r, mat, Vec(uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3)));
+      }
+  sim.run(steps);
+  ColumnResult out;
+  const auto& p = sim.particles();
+  out.x.assign(p.x.begin(), p.x.begin() + p.owned());
+  out.v.assign(p.v.begin(), p.v.begin() + p.owned());
+  out.contacts = sim.contact_count();
+  return out;
+}
+
+}  // namespace
+
+TEMPLATE_TEST_CASE("Packed contact evaluation equals the one-at-a-time evaluation", "[contact][packed]",
+                   contact::LinearFrictionless, contact::HertzFrictionless, contact::HertzMindlin,
+                   contact::HertzMindlinEpsd, contact::HertzMindlinEpsdSjkr) {
+  STATIC_REQUIRE(TestType::lanes);
+  SECTION("a step of 1 us") { check_packed_against_scalar<TestType>(1e-6, 11); }
+  SECTION("a step of 20 us (large increments)") { check_packed_against_scalar<TestType>(2e-5, 12); }
+  SECTION("the set-up evaluation (dt = 0)") { check_packed_against_scalar<TestType>(0.0, 13); }
+}
+
+TEST_CASE("Models with a scalar-only slot are not packed", "[contact][packed]") {
+  STATIC_REQUIRE_FALSE(contact::HertzMindlinLegacy::lanes);      // displacement history, SpringOnly
+  STATIC_REQUIRE_FALSE(contact::LinearSpringDashpot::lanes);     // displacement history
+  STATIC_REQUIRE_FALSE(contact::LinearCoulombRolling::lanes);    // incremental Coulomb
+  STATIC_REQUIRE_FALSE(Simulation<Dim2, contact::HertzMindlin>::kPackable);  // 2D
+  STATIC_REQUIRE(Simulation<Dim3, contact::HertzMindlin>::kPackable);
+  STATIC_REQUIRE_FALSE(Simulation<Dim3, contact::HertzMindlin, neighbours::VerletList,
+                                  integrators::VelocityVerletPredictedDamping>::kPackable);
+}
+
+TEMPLATE_TEST_CASE("A packed run follows the one-at-a-time run", "[contact][packed][engine]",
+                   contact::HertzMindlin, contact::HertzMindlinEpsdSjkr) {
+  // A 3D column of ~1000 polydisperse spheres with random velocities under gravity, between
+  // walls: the whole packed path (touch sorting, chunks with padding, history gather/scatter,
+  // run-length force scatter) against the scalar loop. The trajectories separate only by
+  // amplified rounding over 150 steps.
+  const auto one = run_column<TestType>(false, 150);
+  const auto packed = run_column<TestType>(true, 150);
+  REQUIRE(one.contacts > 600);
+  CHECK(packed.contacts == one.contacts);
+  double dx = 0.0, dv = 0.0, vmax = 0.0;
+  for (std::size_t k = 0; k < one.x.size(); ++k) {
+    dx = std::max(dx, (packed.x[k] - one.x[k]).norm());
+    dv = std::max(dv, (packed.v[k] - one.v[k]).norm());
+    vmax = std::max(vmax, one.v[k].norm());
+  }
+  INFO("max position difference " << dx << " m, velocity " << dv << " m/s (max speed " << vmax << ")");
+  CHECK(dx < 1e-12 * kR);
+  CHECK(dv < 1e-9 * vmax);
+}
