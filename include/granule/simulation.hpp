@@ -1107,30 +1107,10 @@ class Simulation {
         for (std::size_t k = 0; k < ns; ++k) list_.state[acc.separated[k]] = State{};
       }
       Chunk chunk;
-      for (std::size_t k = 0; k < nt; ++k) {
-        const std::uint32_t e = acc.touching[k], i = acc.touching_row[k], j = list_.nbr[e];
-        const std::size_t prm = p.material[i] * nm + p.material[j];
-        if (chunk.count > 0 && (chunk.full() || prm != chunk.params)) evaluate_chunk(chunk, acc);
-        chunk.params = prm;
-        const std::size_t c = chunk.count++;
-        chunk.i[c] = i;
-        chunk.j[c] = j;
-        chunk.entry[c] = e;
-        auto& in = chunk.in;
-        const Vec d = p.x[i] - p.x[j];
-        const Vec dv = p.v[i] - p.v[j];
-        for (int q = 0; q < 3; ++q) {
-          in[Chunk::dx + q][c] = d[q];
-          in[Chunk::dvx + q][c] = dv[q];
-          in[Chunk::wix + q][c] = p.omega[i][q];
-          in[Chunk::wjx + q][c] = p.omega[j][q];
-        }
-        in[Chunk::ri][c] = p.radius[i];
-        in[Chunk::rj][c] = p.radius[j];
-        in[Chunk::inv_mi][c] = p.inv_mass[i];
-        in[Chunk::inv_mj][c] = p.inv_mass[j];
+      for (std::size_t k = 0; k < nt;) {
+        k = fill_chunk(chunk, acc, k, nt);
+        evaluate_chunk(chunk, acc);
       }
-      if (chunk.count > 0) evaluate_chunk(chunk, acc);
       for (std::size_t i = r0; i < r1; ++i) {
         if (list_.wall_begin[i] == list_.wall_begin[i + 1]) continue;
         Vec fi = Vec::Zero();
@@ -1140,6 +1120,50 @@ class Simulation {
         p.torque[i] += ti;
       }
     }
+  }
+
+  // Copies touching pairs k, k+1, ... of the layer into the chunk until it is full or the
+  // material pair changes; returns the first pair not copied. (A local count and plain stores:
+  // with chunk.count incremented in memory GCC reloaded it for every store.)
+  template <class Chunk>
+  std::size_t fill_chunk(Chunk& chunk, const LayerAccumulator& acc, std::size_t k, std::size_t nt) const {
+    const auto& p = particles_;
+    const std::size_t nm = materials_.size();
+    const std::uint32_t* touching = acc.touching.data();
+    const std::uint32_t* rows = acc.touching_row.data();
+    const std::size_t prm = p.material[rows[k]] * nm + p.material[list_.nbr[touching[k]]];
+    std::size_t c = 0;
+    for (; k < nt && c < Chunk::capacity; ++k, ++c) {
+      const std::uint32_t e = touching[k], i = rows[k], j = list_.nbr[e];
+      if (p.material[i] * nm + p.material[j] != prm) break;
+      chunk.i[c] = i;
+      chunk.j[c] = j;
+      chunk.entry[c] = e;
+      const Vec d = p.x[i] - p.x[j];
+      const Vec dv = p.v[i] - p.v[j];
+      const AngVec& wi = p.omega[i];
+      const AngVec& wj = p.omega[j];
+      double (&in)[Chunk::fields][Chunk::capacity] = chunk.in;
+      in[Chunk::dx][c] = d[0];
+      in[Chunk::dy][c] = d[1];
+      in[Chunk::dz][c] = d[2];
+      in[Chunk::dvx][c] = dv[0];
+      in[Chunk::dvy][c] = dv[1];
+      in[Chunk::dvz][c] = dv[2];
+      in[Chunk::wix][c] = wi[0];
+      in[Chunk::wiy][c] = wi[1];
+      in[Chunk::wiz][c] = wi[2];
+      in[Chunk::wjx][c] = wj[0];
+      in[Chunk::wjy][c] = wj[1];
+      in[Chunk::wjz][c] = wj[2];
+      in[Chunk::ri][c] = p.radius[i];
+      in[Chunk::rj][c] = p.radius[j];
+      in[Chunk::inv_mi][c] = p.inv_mass[i];
+      in[Chunk::inv_mj][c] = p.inv_mass[j];
+    }
+    chunk.count = c;
+    chunk.params = prm;
+    return k;
   }
 
   // Passes 2 and 3 of the packed pair loop (contact/packed.hpp) for one chunk; empties it.
