@@ -16,6 +16,10 @@
 #   --steps N         timed steps per run (default 2000)
 #   --codes "liggghts lammps granule"   codes to run (default: all found)
 #   --out-dir DIR     logs and end states (default out/peers/runs under the repository)
+#   --rounds N        repeat everything N times (default 1), codes interleaved per core count,
+#                     so that a slower or faster spell of a shared machine hits all codes alike;
+#                     the CSV's last column is the round. benchmarks/peers/summarise.py prints
+#                     the best and median of the rounds and the ratios.
 # Environment: LIGGGHTS_BIN (liggghts), LAMMPS_BIN (lmp), MPIRUN (mpirun), MPIRUN_FLAGS (extra
 # mpirun flags), GRANULE_SCENE_BENCH (granule's scene benchmark; granule is skipped when unset),
 # CXX (compiler for contact_stats, g++).
@@ -27,7 +31,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/.." && pwd)"
 peers="$here/peers"
 
-data_A=""; data_B=""; scenes=""; cores="1 2"; steps=2000; codes=""
+data_A=""; data_B=""; scenes=""; cores="1 2"; steps=2000; codes=""; rounds=1
 out_dir="$repo/out/peers/runs"
 while [[ $# -gt 0 ]]; do
   case "$1" in
@@ -38,7 +42,8 @@ while [[ $# -gt 0 ]]; do
     --steps) steps="$2"; shift 2 ;;
     --codes) codes="$2"; shift 2 ;;
     --out-dir) out_dir="$2"; shift 2 ;;
-    -h|--help) sed -n '2,25p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    --rounds) rounds="$2"; shift 2 ;;
+    -h|--help) sed -n '2,27p' "${BASH_SOURCE[0]}"; exit 0 ;;
     *) echo "run_peers.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -94,7 +99,7 @@ end_state_stats() {
 # Runs one peer (liggghts or lammps) and prints its CSV row.
 run_peer() {
   local code="$1" scene="$2" np="$3" data="$4"
-  local tag="${code}_${scene}_np${np}" bin input
+  local tag="${code}_${scene}_np${np}_r${round}" bin input
   local log="$out_dir/$tag.log" end="$out_dir/$tag.end.data"
   if [[ "$code" == liggghts ]]; then bin="$LIGGGHTS_BIN"; input="$peers/liggghts_$scene.in"
   else bin="$LAMMPS_BIN"; input="$peers/lammps_$scene.in"; fi
@@ -132,7 +137,7 @@ run_peer() {
 # particles=, and end_state=PATH (a data file of the end state, from write_lammps_data).
 run_granule() {
   local scene="$1" threads="$2" data="$3"
-  local tag="granule_${scene}_t${threads}" log
+  local tag="granule_${scene}_t${threads}_r${round}" log
   log="$out_dir/$tag.log"
   if ! OMP_NUM_THREADS="$threads" "$GRANULE_SCENE_BENCH" --scene "$scene" --data "$data" \
        --steps "$steps" --threads "$threads" --end-state "$out_dir/$tag.end.data" >"$log" 2>&1; then
@@ -150,17 +155,20 @@ run_granule() {
   echo "granule,$scene,${particles:-NA},$threads,$steps,${seconds:-NA},${rate:-NA},$stats"
 }
 
-echo "code,scene,particles,cores,steps,seconds,particle_steps_per_s,contacts,mean_overlap"
-for scene in $scenes; do
-  data="$(scene_data "$scene")"
-  [[ -s "$data" ]] || { echo "run_peers.sh: no data file for scene $scene" >&2; exit 2; }
-  for code in $codes; do
+echo "code,scene,particles,cores,steps,seconds,particle_steps_per_s,contacts,mean_overlap,round"
+for ((round = 1; round <= rounds; ++round)); do
+  for scene in $scenes; do
+    data="$(scene_data "$scene")"
+    [[ -s "$data" ]] || { echo "run_peers.sh: no data file for scene $scene" >&2; exit 2; }
     for c in $cores; do
-      case "$code" in
-        liggghts|lammps) run_peer "$code" "$scene" "$c" "$data" ;;
-        granule) run_granule "$scene" "$c" "$data" ;;
-        *) echo "run_peers.sh: unknown code $code" >&2; exit 2 ;;
-      esac
+      for code in $codes; do
+        case "$code" in
+          liggghts|lammps) row="$(run_peer "$code" "$scene" "$c" "$data")" ;;
+          granule) row="$(run_granule "$scene" "$c" "$data")" ;;
+          *) echo "run_peers.sh: unknown code $code" >&2; exit 2 ;;
+        esac
+        echo "$row,$round"
+      done
     done
   done
 done

@@ -1206,26 +1206,30 @@ class Simulation {
     }
     // Pass 3. Consecutive contacts of one row share i: its sums are written once per run (no
     // entry of row i has j = i, so nothing else touches p.f[i] meanwhile).
+    // (Raw pointers: through the vectors GCC reloaded their data pointers after every store.)
+    Vec* const force = p.f.data();
+    AngVec* const torque = p.torque.data();
+    const auto& out = chunk.out;
     std::uint32_t row = chunk.i[0];
     Vec fi = Vec::Zero();
     AngVec ti = D::zero_ang();
     for (std::size_t c = 0; c < chunk.count; ++c) {
       const std::uint32_t i = chunk.i[c], j = chunk.j[c];
       if (i != row) {
-        p.f[row] += fi;
-        p.torque[row] += ti;
+        force[row] += fi;
+        torque[row] += ti;
         row = i;
         fi.setZero();
         ti.setZero();
       }
-      const Vec f(chunk.out[Chunk::fx][c], chunk.out[Chunk::fy][c], chunk.out[Chunk::fz][c]);
+      const Vec f(out[Chunk::fx][c], out[Chunk::fy][c], out[Chunk::fz][c]);
       fi += f;
-      p.f[j] -= f;
-      ti += AngVec(chunk.out[Chunk::tix][c], chunk.out[Chunk::tiy][c], chunk.out[Chunk::tiz][c]);
-      p.torque[j] += AngVec(chunk.out[Chunk::tjx][c], chunk.out[Chunk::tjy][c], chunk.out[Chunk::tjz][c]);
+      force[j] -= f;
+      ti += AngVec(out[Chunk::tix][c], out[Chunk::tiy][c], out[Chunk::tiz][c]);
+      torque[j] += AngVec(out[Chunk::tjx][c], out[Chunk::tjy][c], out[Chunk::tjz][c]);
     }
-    p.f[row] += fi;
-    p.torque[row] += ti;
+    force[row] += fi;
+    torque[row] += ti;
     acc.contacts += chunk.count;
     chunk.count = 0;
   }
