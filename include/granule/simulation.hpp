@@ -428,12 +428,14 @@ class Simulation {
     return fr;
   }
 
-  /// Memory held by particles, list and history [bytes].
+  /// Memory held by particles, list and history, and the pair loop's work arrays [bytes].
   std::size_t memory_bytes() const {
     const auto& p = particles_;
     const std::size_t per = 5 * sizeof(Vec) + 2 * sizeof(AngVec) + 4 * sizeof(double) + 2 * 4 + 8 + 1 +
                             sizeof(typename ParticleStore<D>::Image);
-    return p.x.capacity() * per + list_.memory_bytes();
+    std::size_t work = v_damp_.capacity() * sizeof(Vec) + omega_damp_.capacity() * sizeof(AngVec);
+    for (const auto& a : layer_acc_) work += a.sorted_entries.capacity() * sizeof(std::uint32_t);
+    return p.x.capacity() * per + list_.memory_bytes() + work;
   }
 
   /// Writes the dynamic state (particles, ghosts, neighbour list with history, bodies, time) to
@@ -560,9 +562,9 @@ class Simulation {
     std::vector<Vec> body_force;
     std::vector<AngVec> body_torque;
     std::vector<analysis::ContactRecord<D>> records;
-    // Packed pair loop: the layer's list entries that touch (with their rows) and those that do
-    // not (process_layer_packed).
-    std::vector<std::uint32_t> touching, touching_row, separated;
+    // Packed pair loop: the layer's list entries that touch, from the front, and those that do
+    // not, from the back (process_layer_packed).
+    std::vector<std::uint32_t> sorted_entries;
   };
 
   std::uint32_t add_material_impl(const Material& m, bool is_wall) {
@@ -1085,9 +1087,10 @@ class Simulation {
       const std::size_t nm = materials_.size();
       const std::size_t r0 = list_.layer_begin[l], r1 = list_.layer_begin[l + 1];
       const std::size_t entries = list_.row_begin[r1] - list_.row_begin[r0];
-      acc.touching.resize(entries);
-      acc.touching_row.resize(entries);
-      acc.separated.resize(entries);
+      acc.sorted_entries.resize(entries);
+      std::uint32_t* const sorted = acc.sorted_entries.data();
+      // Both slots get e; the one whose count does not advance is overwritten later (when they
+      // coincide, at the last entry, both hold e anyway).
       std::size_t nt = 0, ns = 0;
       for (std::size_t i = r0; i < r1; ++i) {
         const Vec xi = p.x[i];
@@ -1096,19 +1099,19 @@ class Simulation {
           const std::uint32_t j = list_.nbr[e];
           const double rs = ri + p.radius[j];
           const bool touch = (xi - p.x[j]).squaredNorm() < rs * rs;
-          acc.touching[nt] = e;
-          acc.touching_row[nt] = static_cast<std::uint32_t>(i);
-          acc.separated[ns] = e;
+          sorted[entries - 1 - ns] = e;
+          sorted[nt] = e;
           nt += touch;
           ns += !touch;
         }
       }
       if constexpr (kHasState) {
-        for (std::size_t k = 0; k < ns; ++k) list_.state[acc.separated[k]] = State{};
+        for (std::size_t k = nt; k < entries; ++k) list_.state[sorted[k]] = State{};
       }
       Chunk chunk;
+      std::uint32_t row = static_cast<std::uint32_t>(r0);
       for (std::size_t k = 0; k < nt;) {
-        k = fill_chunk(chunk, acc, k, nt);
+        k = fill_chunk(chunk, acc, k, nt, row);
         evaluate_chunk(chunk, acc);
       }
       for (std::size_t i = r0; i < r1; ++i) {
@@ -1125,16 +1128,22 @@ class Simulation {
   // Copies touching pairs k, k+1, ... of the layer into the chunk until it is full or the
   // material pair changes; returns the first pair not copied. (A local count and plain stores:
   // with chunk.count incremented in memory GCC reloaded it for every store.)
+  // `row` is the row of the entries being copied (touching entries are in row order); it
+  // is advanced as they go.
   template <class Chunk>
-  std::size_t fill_chunk(Chunk& chunk, const LayerAccumulator& acc, std::size_t k, std::size_t nt) const {
+  std::size_t fill_chunk(Chunk& chunk, const LayerAccumulator& acc, std::size_t k, std::size_t nt,
+                         std::uint32_t& row) const {
     const auto& p = particles_;
     const std::size_t nm = materials_.size();
-    const std::uint32_t* touching = acc.touching.data();
-    const std::uint32_t* rows = acc.touching_row.data();
-    const std::size_t prm = p.material[rows[k]] * nm + p.material[list_.nbr[touching[k]]];
+    const std::uint32_t* touching = acc.sorted_entries.data();
+    const std::uint32_t* row_begin = list_.row_begin.data();
+    while (row_begin[row + 1] <= touching[k]) ++row;
+    const std::size_t prm = p.material[row] * nm + p.material[list_.nbr[touching[k]]];
     std::size_t c = 0;
     for (; k < nt && c < Chunk::capacity; ++k, ++c) {
-      const std::uint32_t e = touching[k], i = rows[k], j = list_.nbr[e];
+      const std::uint32_t e = touching[k], j = list_.nbr[e];
+      while (row_begin[row + 1] <= e) ++row;
+      const std::uint32_t i = row;
       if (p.material[i] * nm + p.material[j] != prm) break;
       chunk.i[c] = i;
       chunk.j[c] = j;
