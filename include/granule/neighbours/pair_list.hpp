@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "granule/core/error.hpp"
@@ -74,6 +75,7 @@ class PairList {
       sort_by_cell(p, dom);
     }
     make_ghosts(p, dom, range);
+    p.trim_capacity();
     if constexpr (Policy::uses_cells) bin_all(p, dom);
 
     // Old rows, indexed by particle id, for the history transfer.
@@ -88,6 +90,9 @@ class PairList {
     build_rows<Policy>(p, skin);
     build_walls(p, skin, collect_walls);
     if constexpr (HasState) transfer(p, reversed);
+    // The old rows are needed only for the transfer: holding them until the next rebuild would
+    // double the list's memory (a rebuild every few hundred steps allocates them afresh).
+    release(old_row_begin_, old_key_, old_state_, old_wall_begin_, old_wall_, old_wall_state_, old_row_of_id_);
 
     layer_begin.clear();
     if constexpr (Policy::uses_cells) {
@@ -127,16 +132,23 @@ class PairList {
     builds = r.template pod<std::uint64_t>();
   }
 
-  /// Approximate memory held by the list and its history [bytes].
+  /// Memory held by the list, its history and the search's work arrays [bytes].
   std::size_t memory_bytes() const {
     return row_begin.capacity() * 4 + nbr.capacity() * 4 + key_.capacity() * 8 +
            state.capacity() * sizeof(State) * HasState + wall_begin.capacity() * 4 +
            wall.capacity() * sizeof(WallEntry) + wall_state.capacity() * sizeof(State) * HasState +
            x_at_build.capacity() * sizeof(Vec) + cell_start_.capacity() * 4 +
-           cell_items_.capacity() * 4 + row_of_id_.capacity() * 4;
+           cell_items_.capacity() * 4 + row_of_id_.capacity() * 4 + layer_begin.capacity() * 4 +
+           cell_of_.capacity() * 4 + cell_coords_.capacity() * sizeof(cell_coords_[0]) +
+           order_.capacity() * sizeof(int);
   }
 
  private:
+  template <class... V>
+  static void release(V&... v) {
+    (std::remove_reference_t<V>().swap(v), ...);
+  }
+
   // ---- periodic wrapping --------------------------------------------------------------------
   static void wrap(ParticleStore<D>& p, const Domain<D>& dom) {
     const Vec L = dom.length();

@@ -89,6 +89,17 @@ class ParticleStore {
   /// Removes all ghost slots.
   void clear_ghosts() { resize_all(owned_); ghost_owner.clear(); ghost_shift.clear(); }
 
+  /// Returns the spare capacity of the arrays when it exceeds a quarter of their size (ghosts
+  /// are appended one by one, so a rebuild can leave the arrays at twice the slots in use).
+  void trim_capacity() {
+    auto trim = [](auto& a) {
+      if (a.capacity() > a.size() + a.size() / 4 + 64) a.shrink_to_fit();
+    };
+    trim(x); trim(v); trim(f); trim(omega); trim(torque); trim(radius); trim(mass); trim(inv_mass);
+    trim(inv_inertia); trim(material); trim(group); trim(id); trim(motion); trim(image);
+    trim(ghost_owner); trim(ghost_shift);
+  }
+
   /// Appends a ghost image of owned slot o shifted by `shift` (box lengths) * `box`.
   void add_ghost(std::uint32_t o, const Image& shift, const Vec& box) {
     x.push_back(x[o] + (shift.template cast<double>().array() * box.array()).matrix());
