@@ -1084,7 +1084,6 @@ class Simulation {
       using Chunk = contact::PairChunk<64>;
       auto& p = particles_;
       auto& acc = layer_acc_[l];
-      const std::size_t nm = materials_.size();
       const std::size_t r0 = list_.layer_begin[l], r1 = list_.layer_begin[l + 1];
       const std::size_t entries = list_.row_begin[r1] - list_.row_begin[r0];
       acc.sorted_entries.resize(entries);
