@@ -136,6 +136,19 @@ template <class D, class Model>
   }
 }
 
+/// Histories after loading the springs: contact k sees 0..499 forward steps before timing.
+template <class D, class Model>
+std::vector<typename Model::template State<D>> loaded_states(const typename Model::Params& prm, const Batch<D>& batch) {
+  std::vector<typename Model::template State<D>> states(batch.forward.size());
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<int> loads(0, 499);
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    const int nload = loads(rng);
+    for (int s = 0; s < nload; ++s) benchmark::DoNotOptimize(Model::evaluate(prm, batch.forward[k], states[k]));
+  }
+  return states;
+}
+
 template <class D, class Model>
 void bm_evaluate(benchmark::State& st) {
   using State = typename Model::template State<D>;
@@ -144,15 +157,7 @@ void bm_evaluate(benchmark::State& st) {
   const Material mat = kernel_material();
   const typename Model::Params prm = Model::make(mix(mat, mat), thickness);
   const Batch<D> batch = make_batch<D>(half, thickness, 20240611);
-  std::vector<State> states(half);
-
-  // Load the springs: contact k sees 0..499 forward steps before timing.
-  std::mt19937_64 rng(7);
-  std::uniform_int_distribution<int> loads(0, 499);
-  for (std::size_t k = 0; k < half; ++k) {
-    const int nload = loads(rng);
-    for (int s = 0; s < nload; ++s) benchmark::DoNotOptimize(Model::evaluate(prm, batch.forward[k], states[k]));
-  }
+  std::vector<State> states = loaded_states<D, Model>(prm, batch);
   std::size_t sliding = 0;
   {
     std::vector<State> probe = states;
@@ -229,13 +234,7 @@ void bm_evaluate_packed(benchmark::State& st) {
   const typename Model::Params prm = Model::make(mix(mat, mat), 1.0);
   const Batch<Dim3> batch = make_batch<Dim3>(half, 1.0, 20240611);
   // The same warm-up as the scalar benchmark, then the loaded histories are packed.
-  std::vector<State> states(half);
-  std::mt19937_64 rng(7);
-  std::uniform_int_distribution<int> loads(0, 499);
-  for (std::size_t k = 0; k < half; ++k) {
-    const int nload = loads(rng);
-    for (int s = 0; s < nload; ++s) benchmark::DoNotOptimize(Model::evaluate(prm, batch.forward[k], states[k]));
-  }
+  const std::vector<State> states = loaded_states<Dim3, Model>(prm, batch);
   std::vector<contact::ContactGeometry<Dim3Lanes>> forward, backward;
   std::vector<PackedState> packed(half / lane_width);
   for (std::size_t k = 0; k + lane_width <= half; k += lane_width) {

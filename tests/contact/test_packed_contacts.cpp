@@ -124,20 +124,27 @@ std::vector<double> state_doubles(const StoredState<Model>& s) {
   return v;
 }
 
+/// Friction, rolling resistance and cohesion switched on, so that every slot of every packed
+/// model does real work.
+Material test_material(double youngs_modulus, double rolling_friction, double cohesion) {
+  Material m;
+  m.youngs_modulus = youngs_modulus;  // [Pa]
+  m.poisson_ratio = 0.3;
+  m.density = 2500.0;  // [kg/m^3]
+  m.restitution = 0.5;
+  m.friction = 0.5;
+  m.rolling_friction = rolling_friction;
+  m.rolling_damping = 0.3;
+  m.cohesion_energy_density = cohesion;  // [J/m^3]
+  m.normal_stiffness = 1e4;              // [N/m] (linear laws)
+  return m;
+}
+
 template <class Model>
 void check_packed_against_scalar(double dt, std::uint64_t seed) {
   using Chunk = contact::PairChunk<64>;
   using PackedState = typename Model::template State<Dim3Lanes>;
-  Material m;
-  m.youngs_modulus = 5e6;
-  m.poisson_ratio = 0.3;
-  m.density = 2500.0;
-  m.restitution = 0.5;
-  m.friction = 0.5;
-  m.rolling_friction = 0.4;
-  m.rolling_damping = 0.3;
-  m.cohesion_energy_density = 1000.0;
-  m.normal_stiffness = 1e4;
+  const Material m = test_material(5e6, 0.4, 1000.0);
   const auto prm = Model::make(mix(m, m));
   std::mt19937_64 rng(seed);
   auto chunk = std::make_unique<Chunk>();
@@ -258,15 +265,7 @@ ColumnResult run_column(bool packed, std::size_t steps) {
   cfg.gravity = Vec(0.0, 0.0, -100.0);  // [m/s^2]
   cfg.packed_contacts = packed;
   Simulation<Dim3, Model> sim(cfg);
-  Material m;
-  m.youngs_modulus = 1e7;
-  m.poisson_ratio = 0.3;
-  m.density = 2500.0;
-  m.restitution = 0.5;
-  m.friction = 0.5;
-  m.rolling_friction = 0.3;
-  m.rolling_damping = 0.3;
-  m.cohesion_energy_density = 2e4;
+  const Material m = test_material(1e7, 0.3, 2e4);
   const auto mat = sim.add_material(m);
   const auto wmat = sim.add_wall_material(m);
   for (int k = 0; k < 3; ++k) {
