@@ -2,9 +2,10 @@
 // Packed evaluation of 3D particle-pair contacts: W contacts through one law call.
 //
 // The engine's packed pair loop (Simulation, docs/architecture.md "Packed contacts") runs in
-// three passes over a chunk of a cell layer:
-//   1. scalar: test every list entry for touch (no square root); copy what the law needs of the
-//      touching pairs into this chunk, one array per quantity (struct of arrays);
+// three passes over a cell layer:
+//   1. scalar: test every list entry of the layer for touch (no square root, no branch); copy
+//      what the law needs of the touching pairs into a chunk, one array per quantity (struct
+//      of arrays), 64 pairs at a time;
 //   2. packed: build ContactGeometry<Dim3Lanes> for W contacts at a time, gather their
 //      histories, evaluate the model, scatter the histories back;
 //   3. scalar: add the forces and torques to both particles, in the order of the entries
@@ -92,7 +93,7 @@ struct PairChunk {
   }
 
   /// Geometry of the W contacts starting at k (as Simulation::pair_geometry for one contact).
-  /// `rolling_inertia` and `twist` say whether the model needs i_roll and the twist angle.
+  /// `RollingInertia` and `Twist` say whether the model needs i_roll and the twist angle.
   template <bool RollingInertia, bool Twist>
   void geometry(std::size_t k, double dt, ContactGeometry<Dim3Lanes>& g) const {
     using std::sqrt;
