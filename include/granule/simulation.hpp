@@ -273,35 +273,54 @@ class Simulation {
     const std::size_t n = particles_.owned();
     update_group_velocities(time_ + half);
     auto& p = particles_;
-#pragma omp parallel for schedule(static) if (parallel_)
+    // One pass: first kick and drift, the force reset of compute_forces (this step's forces
+    // start from gravity) and the displacement test of needs_rebuild. (The predicted-damping
+    // integrator needs the old forces in compute_forces: it resets them there.)
+    constexpr bool reset_here = !kPredictDamping;
+    const double lim2 = 0.25 * skin_used_ * skin_used_;
+    const bool test_moves = !Search::rebuild_every_step && list_.x_at_build.size() == n;
+    int moved = 0;
+#pragma omp parallel for schedule(static) reduction(| : moved) if (parallel_)
     for (std::size_t i = 0; i < n; ++i) {
       switch (p.motion[i]) {
         case Motion::Free:
           p.v[i] += kick1 * p.inv_mass[i] * p.f[i];
           p.omega[i] += (kick1 * p.inv_inertia[i]) * p.torque[i];
           p.x[i] += dt * p.v[i];
+          if constexpr (reset_here) p.f[i] = p.mass[i] * config_.gravity;
           break;
         case Motion::Prescribed:
           p.v[i] = group_v_now_[p.group[i]];
           p.x[i] += dt * p.v[i];
+          if constexpr (reset_here) p.f[i].setZero();
           break;
         case Motion::Frozen:
+          if constexpr (reset_here) p.f[i].setZero();
           break;
       }
+      if constexpr (reset_here) p.torque[i] = D::zero_ang();
+      if (test_moves) moved |= (p.x[i] - list_.x_at_build[i]).squaredNorm() > lim2;
     }
     for (auto& b : bodies_) b.advance(time_, dt);
     time_ += dt;
     ++step_;
     const bool record = contacts_wanted(step_);
-    if (needs_rebuild()) {
+    if (!test_moves || moved != 0 || needs_rebuild(false)) {
       rebuild();
     } else {
       refresh_ghosts();
     }
-    compute_forces(record);
+    compute_forces(record, /*owned_reset=*/reset_here, /*check_finite=*/false);
     update_group_velocities(time_);
-#pragma omp parallel for schedule(static) if (parallel_)
+    // Second kick, with compute_forces' finiteness test: a particle that fails it keeps its
+    // velocity and stops the run below.
+    std::size_t bad = std::numeric_limits<std::size_t>::max();
+#pragma omp parallel for schedule(static) reduction(min : bad) if (parallel_)
     for (std::size_t i = 0; i < n; ++i) {
+      if (!finite_state(i)) {
+        bad = std::min(bad, i);
+        continue;
+      }
       if (p.motion[i] == Motion::Free) {
         p.v[i] += kick2 * p.inv_mass[i] * p.f[i];
         p.omega[i] += (kick2 * p.inv_inertia[i]) * p.torque[i];
@@ -309,6 +328,8 @@ class Simulation {
         p.v[i] = group_v_now_[p.group[i]];
       }
     }
+    if (bad != std::numeric_limits<std::size_t>::max())
+      throw_instability(bad, "its force, torque, position or velocity is not finite");
     for (auto& b : bodies_) {
       // Work of the drive against the particles over this step (rectangle rule at step end).
       b.work -= (b.force.dot(b.current_velocity) + ang_dot(b.torque, b.current_angular_velocity)) * dt;
@@ -434,7 +455,7 @@ class Simulation {
     const std::size_t per = 5 * sizeof(Vec) + 2 * sizeof(AngVec) + 4 * sizeof(double) + 2 * 4 + 8 + 1 +
                             sizeof(typename ParticleStore<D>::Image);
     std::size_t work = v_damp_.capacity() * sizeof(Vec) + omega_damp_.capacity() * sizeof(AngVec);
-    for (const auto& a : layer_acc_) work += a.sorted_entries.capacity() * sizeof(std::uint32_t);
+    for (const auto& w : pair_work_) work += (w.entries.capacity() + w.rows.capacity()) * sizeof(std::uint32_t);
     return p.x.capacity() * per + list_.memory_bytes() + work;
   }
 
@@ -562,9 +583,13 @@ class Simulation {
     std::vector<Vec> body_force;
     std::vector<AngVec> body_torque;
     std::vector<analysis::ContactRecord<D>> records;
-    // Packed pair loop: the layer's list entries that touch, from the front, and those that do
-    // not, from the back (process_layer_packed).
-    std::vector<std::uint32_t> sorted_entries;
+  };
+
+  // Work arrays of the packed pair loop, one per thread (process_layer_packed): the layer's
+  // list entries that touch, from the front, and those that do not, from the back; the row of
+  // each touching entry.
+  struct PairWork {
+    std::vector<std::uint32_t> entries, rows;
   };
 
   std::uint32_t add_material_impl(const Material& m, bool is_wall) {
@@ -690,7 +715,9 @@ class Simulation {
     return false;
   }
 
-  bool needs_rebuild() const {
+  /// Whether the list must be rebuilt: a moving body or (if `test_particles`) a particle has
+  /// moved more than half the skin since the last build.
+  bool needs_rebuild(bool test_particles = true) const {
     if (Search::rebuild_every_step) return true;
     const double half = 0.5 * skin_used_;
     for (const auto& b : bodies_) {
@@ -704,6 +731,7 @@ class Simulation {
       }
       if (moved > half) return true;
     }
+    if (!test_particles) return false;
     const std::size_t n = particles_.owned();
     const double lim2 = half * half;
     int over = 0;
@@ -730,6 +758,11 @@ class Simulation {
       if (!particles_.x[i].allFinite()) throw_instability(i, "its position is not finite");
       if (!config_.domain.contains(particles_.x[i])) throw_instability(i, "it left the non-periodic domain");
     }
+  }
+
+  bool finite_state(std::size_t i) const {
+    const auto& p = particles_;
+    return p.f[i].allFinite() && D::all_finite(p.torque[i]) && p.x[i].allFinite() && p.v[i].allFinite();
   }
 
   [[noreturn]] void throw_instability(std::size_t i, const std::string& why) const {
@@ -853,19 +886,27 @@ class Simulation {
     }
   }
 
-  void compute_forces(bool record) {
+  /// `owned_reset`: the owned particles' forces and torques are already reset (step() does it
+  /// in its first pass); `check_finite`: test the result here (step() does it in its last).
+  void compute_forces(bool record, bool owned_reset = false, bool check_finite = true) {
     auto& p = particles_;
     const std::size_t n = p.owned();
     const std::size_t m = p.size();
     const std::size_t nb = bodies_.size();
     if constexpr (kPredictDamping) predict_damping_velocities();
+    const std::size_t reset_from = owned_reset ? n : 0;
 #pragma omp parallel for schedule(static) if (parallel_)
-    for (std::size_t i = 0; i < m; ++i) {
+    for (std::size_t i = reset_from; i < m; ++i) {
       p.f[i] = (i < n && p.motion[i] == Motion::Free) ? Vec(p.mass[i] * config_.gravity) : Vec(Vec::Zero());
       p.torque[i] = D::zero_ang();
     }
     const std::size_t nl = list_.layers();
     layer_acc_.resize(nl);
+#ifdef _OPENMP
+    pair_work_.resize(static_cast<std::size_t>(omp_get_max_threads()));
+#else
+    pair_work_.resize(1);
+#endif
     for (auto& a : layer_acc_) {
       a.contacts = 0;
       a.bad_row = std::numeric_limits<std::size_t>::max();
@@ -927,11 +968,11 @@ class Simulation {
         << " exceeds max_overlap_ratio (" << config_.max_overlap_ratio << ") x the smaller radius";
       throw_instability(a.bad_row, s.str());
     }
+    if (!check_finite) return;
     std::size_t bad = std::numeric_limits<std::size_t>::max();
 #pragma omp parallel for schedule(static) reduction(min : bad) if (parallel_)
     for (std::size_t i = 0; i < n; ++i)
-      if (!p.f[i].allFinite() || !D::all_finite(p.torque[i]) || !p.x[i].allFinite() || !p.v[i].allFinite())
-        bad = std::min(bad, i);
+      if (!finite_state(i)) bad = std::min(bad, i);
     if (bad != std::numeric_limits<std::size_t>::max())
       throw_instability(bad, "its force, torque, position or velocity is not finite");
   }
@@ -1086,8 +1127,15 @@ class Simulation {
       auto& acc = layer_acc_[l];
       const std::size_t r0 = list_.layer_begin[l], r1 = list_.layer_begin[l + 1];
       const std::size_t entries = list_.row_begin[r1] - list_.row_begin[r0];
-      acc.sorted_entries.resize(entries);
-      std::uint32_t* const sorted = acc.sorted_entries.data();
+#ifdef _OPENMP
+      PairWork& work = pair_work_[static_cast<std::size_t>(omp_get_thread_num())];
+#else
+      PairWork& work = pair_work_[0];
+#endif
+      work.entries.resize(entries);
+      work.rows.resize(entries);
+      std::uint32_t* const sorted = work.entries.data();
+      std::uint32_t* const rows = work.rows.data();
       // Both slots get e; the one whose count does not advance is overwritten later (when they
       // coincide, at the last entry, both hold e anyway).
       std::size_t nt = 0, ns = 0;
@@ -1100,6 +1148,7 @@ class Simulation {
           const bool touch = (xi - p.x[j]).squaredNorm() < rs * rs;
           sorted[entries - 1 - ns] = e;
           sorted[nt] = e;
+          rows[nt] = static_cast<std::uint32_t>(i);
           nt += touch;
           ns += !touch;
         }
@@ -1108,9 +1157,8 @@ class Simulation {
         for (std::size_t k = nt; k < entries; ++k) list_.state[sorted[k]] = State{};
       }
       Chunk chunk;
-      std::uint32_t row = static_cast<std::uint32_t>(r0);
       for (std::size_t k = 0; k < nt;) {
-        k = fill_chunk(chunk, acc, k, nt, row);
+        k = fill_chunk(chunk, sorted, rows, k, nt);
         evaluate_chunk(chunk, acc);
       }
       for (std::size_t i = r0; i < r1; ++i) {
@@ -1124,25 +1172,20 @@ class Simulation {
     }
   }
 
-  // Copies touching pairs k, k+1, ... of the layer into the chunk until it is full or the
-  // material pair changes; returns the first pair not copied. (A local count and plain stores:
-  // with chunk.count incremented in memory GCC reloaded it for every store.)
-  // `row` is the row of the entries being copied (touching entries are in row order); it
-  // is advanced as they go.
+  // Copies touching pairs k, k+1, ... of the layer (entries `touching`, their rows `rows`) into
+  // the chunk until it is full or the material pair changes; returns the first pair not copied.
+  // (A local count and plain stores: with chunk.count incremented in memory GCC reloaded it for
+  // every store.)
   template <class Chunk>
-  std::size_t fill_chunk(Chunk& chunk, const LayerAccumulator& acc, std::size_t k, std::size_t nt,
-                         std::uint32_t& row) const {
+  std::size_t fill_chunk(Chunk& chunk, const std::uint32_t* touching, const std::uint32_t* rows,
+                         std::size_t k, std::size_t nt) const {
     const auto& p = particles_;
     const std::size_t nm = materials_.size();
-    const std::uint32_t* touching = acc.sorted_entries.data();
-    const std::uint32_t* row_begin = list_.row_begin.data();
-    while (row_begin[row + 1] <= touching[k]) ++row;
-    const std::size_t prm = p.material[row] * nm + p.material[list_.nbr[touching[k]]];
+    const std::size_t prm = p.material[rows[k]] * nm + p.material[list_.nbr[touching[k]]];
     std::size_t c = 0;
     for (; k < nt && c < Chunk::capacity; ++k, ++c) {
       const std::uint32_t e = touching[k], j = list_.nbr[e];
-      while (row_begin[row + 1] <= e) ++row;
-      const std::uint32_t i = row;
+      const std::uint32_t i = rows[k];
       if (p.material[i] * nm + p.material[j] != prm) break;
       chunk.i[c] = i;
       chunk.j[c] = j;
@@ -1212,32 +1255,20 @@ class Simulation {
       chunk.store3(Chunk::tix, k, cf.torque_i);
       chunk.store3(Chunk::tjx, k, cf.torque_j);
     }
-    // Pass 3. Consecutive contacts of one row share i: its sums are written once per run (no
-    // entry of row i has j = i, so nothing else touches p.f[i] meanwhile).
+    // Pass 3, in entry order. (Keeping a row's sum in a register and writing it once per run
+    // of equal i was 5 % slower in scene B: the run ends are unpredictable branches.)
     // (Raw pointers: through the vectors GCC reloaded their data pointers after every store.)
     Vec* const force = p.f.data();
     AngVec* const torque = p.torque.data();
     const auto& out = chunk.out;
-    std::uint32_t row = chunk.i[0];
-    Vec fi = Vec::Zero();
-    AngVec ti = D::zero_ang();
     for (std::size_t c = 0; c < chunk.count; ++c) {
       const std::uint32_t i = chunk.i[c], j = chunk.j[c];
-      if (i != row) {
-        force[row] += fi;
-        torque[row] += ti;
-        row = i;
-        fi.setZero();
-        ti.setZero();
-      }
       const Vec f(out[Chunk::fx][c], out[Chunk::fy][c], out[Chunk::fz][c]);
-      fi += f;
+      force[i] += f;
       force[j] -= f;
-      ti += AngVec(out[Chunk::tix][c], out[Chunk::tiy][c], out[Chunk::tiz][c]);
+      torque[i] += AngVec(out[Chunk::tix][c], out[Chunk::tiy][c], out[Chunk::tiz][c]);
       torque[j] += AngVec(out[Chunk::tjx][c], out[Chunk::tjy][c], out[Chunk::tjz][c]);
     }
-    force[row] += fi;
-    torque[row] += ti;
     acc.contacts += chunk.count;
     chunk.count = 0;
   }
@@ -1260,6 +1291,7 @@ class Simulation {
   std::vector<Wall<D>> walls_;
   List list_;
   std::vector<LayerAccumulator> layer_acc_;
+  std::vector<PairWork> pair_work_;
   std::vector<std::uint8_t> wall_touched_;
   std::vector<Motion> group_motion_;
   std::vector<std::function<Vec(double)>> group_velocity_;
