@@ -93,6 +93,8 @@ class PairList {
     // The old rows are needed only for the transfer: holding them until the next rebuild would
     // double the list's memory (a rebuild every few hundred steps allocates them afresh).
     release(old_row_begin_, old_key_, old_state_, old_wall_begin_, old_wall_, old_wall_state_, old_row_of_id_);
+    // Likewise the cell grid: only the rows are used between builds (about 25 B per particle).
+    release(cell_of_, cell_start_, cell_items_, cell_coords_);
 
     layer_begin.clear();
     if constexpr (Policy::uses_cells) {
