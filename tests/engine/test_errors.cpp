@@ -331,3 +331,37 @@ TEMPLATE_TEST_CASE("A particle leaving the non-periodic domain throws Instabilit
   CHECK(xs > 0.05);
   CHECK(xs < 0.05 + 1e-4 + 1e-5);
 }
+
+// The finiteness test runs in the step's second kick (Simulation::step): a prescribed velocity
+// that turns NaN after t = 3.25 dt puts the particle's position at NaN in step 4's drift, which
+// no contact and no rebuild notices (NaN compares false); the run must stop at that step,
+// naming the particle, with the other particle's state untouched by NaN.
+TEMPLATE_TEST_CASE("A non-finite position stops the run at the step it appears", "[engine][errors]", Dim2, Dim3) {
+  using D = TestType;
+  using Vec = typename D::Vec;
+  auto cfg = small_config<D>();
+  Simulation<D, contact::HertzMindlin> sim(cfg);
+  const auto mat = sim.add_material(test::soft_material(0.5, 0.5));
+  const double dt = sim.config().dt;
+  const auto bad = sim.add_particle(Vec::Constant(0.01), 1e-3, mat, Vec::Zero(), 2);
+  sim.prescribe_group_velocity(2, [dt](double t) {
+    Vec v = Vec::Zero();
+    v[0] = t > 3.25 * dt ? std::numeric_limits<double>::quiet_NaN() : 0.01;
+    return v;
+  });
+  const auto other = sim.add_particle(Vec::Constant(0.04), 1e-3, mat);
+  std::string what;
+  try {
+    sim.run(100);
+  } catch (const InstabilityError& e) {
+    what = e.what();
+  }
+  INFO(what);
+  REQUIRE(!what.empty());
+  CHECK(sim.step_count() == 4);
+  CHECK_THAT(what, Contains("step 4") && Contains("particle id " + std::to_string(bad)) &&
+                       Contains("not finite"));
+  const auto& p = sim.particles();
+  CHECK(p.x[sim.index_of(other)].allFinite());
+  CHECK(p.v[sim.index_of(other)].allFinite());
+}
