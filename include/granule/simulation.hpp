@@ -274,7 +274,7 @@ class Simulation {
     update_group_velocities(time_ + half);
     auto& p = particles_;
     // One pass: first kick and drift, the force reset of compute_forces (this step's forces
-    // start from gravity) and the displacement test of needs_rebuild. (The predicted-damping
+    // start from gravity) and the particles' rebuild test. (The predicted-damping
     // integrator needs the old forces in compute_forces: it resets them there.)
     constexpr bool reset_here = !kPredictDamping;
     const double lim2 = 0.25 * skin_used_ * skin_used_;
@@ -305,7 +305,7 @@ class Simulation {
     time_ += dt;
     ++step_;
     const bool record = contacts_wanted(step_);
-    if (!test_moves || moved != 0 || needs_rebuild(false)) {
+    if (!test_moves || moved != 0 || body_needs_rebuild()) {
       rebuild();
     } else {
       refresh_ghosts();
@@ -715,10 +715,9 @@ class Simulation {
     return false;
   }
 
-  /// Whether the list must be rebuilt: a moving body or (if `test_particles`) a particle has
-  /// moved more than half the skin since the last build.
-  bool needs_rebuild(bool test_particles = true) const {
-    if (Search::rebuild_every_step) return true;
+  /// Whether a moving body has moved more than half the skin since the last build (the
+  /// particles' displacement is tested in step()'s first pass).
+  bool body_needs_rebuild() const {
     const double half = 0.5 * skin_used_;
     for (const auto& b : bodies_) {
       if (!b.moving()) continue;
@@ -731,14 +730,7 @@ class Simulation {
       }
       if (moved > half) return true;
     }
-    if (!test_particles) return false;
-    const std::size_t n = particles_.owned();
-    const double lim2 = half * half;
-    int over = 0;
-#pragma omp parallel for schedule(static) reduction(| : over) if (parallel_)
-    for (std::size_t i = 0; i < n; ++i)
-      if ((particles_.x[i] - list_.x_at_build[i]).squaredNorm() > lim2) over |= 1;
-    return over != 0;
+    return false;
   }
 
   void refresh_ghosts() {
@@ -894,8 +886,9 @@ class Simulation {
     const std::size_t m = p.size();
     const std::size_t nb = bodies_.size();
     if constexpr (kPredictDamping) predict_damping_velocities();
+    // After step()'s first pass only the ghosts are left: too few to pay for a barrier.
     const std::size_t reset_from = owned_reset ? n : 0;
-#pragma omp parallel for schedule(static) if (parallel_)
+#pragma omp parallel for schedule(static) if (parallel_ && !owned_reset)
     for (std::size_t i = reset_from; i < m; ++i) {
       p.f[i] = (i < n && p.motion[i] == Motion::Free) ? Vec(p.mass[i] * config_.gravity) : Vec(Vec::Zero());
       p.torque[i] = D::zero_ang();
