@@ -515,11 +515,15 @@ int run_timed(const SceneSpec& s, const Options& o, const std::string& file) {
               s.name, n, o.threads, static_cast<unsigned long long>(o.steps), best_seconds, best_cpu,
               builds_best, best, static_cast<double>(n) * static_cast<double>(o.steps) / best_cpu,
               end_note.c_str());
-  std::printf("memory_bytes=%zu bytes_per_particle=%.1f list_bytes=%zu bytes_per_contact=%.1f "
-              "bytes_per_list_entry=%.1f\n",
-              total_bytes, static_cast<double>(total_bytes - list_bytes) / static_cast<double>(n),
+  // Per particle: everything, and the particle store with the pair loop's work arrays; per
+  // contact and per list entry: the list with its history.
+  std::printf("memory_bytes=%zu bytes_per_particle=%.1f store_bytes_per_particle=%.1f list_bytes=%zu "
+              "bytes_per_contact=%.1f bytes_per_list_entry=%.1f histories=%zu\n",
+              total_bytes, static_cast<double>(total_bytes) / static_cast<double>(n),
+              static_cast<double>(total_bytes - list_bytes) / static_cast<double>(n),
               list_bytes, npair ? static_cast<double>(list_bytes) / static_cast<double>(sim->contact_count()) : 0.0,
-              entries ? static_cast<double>(list_bytes) / static_cast<double>(entries) : 0.0);
+              entries ? static_cast<double>(list_bytes) / static_cast<double>(entries) : 0.0,
+              sim->neighbour_list().histories());
   std::printf("loadavg_end=\"%s\"\n", read_first_line("/proc/loadavg").c_str());
   return 0;
 }

@@ -144,6 +144,7 @@ class Simulation {
                 "[" + detail::to_text(config_.domain.lo[k]) + ", " + detail::to_text(config_.domain.hi[k]) +
                     "] m (inside the non-periodic domain)");
     }
+    list_.detach(particles_);  // the slots the rows name change here
     particles_.clear_ghosts();
     const double m = materials_[material].density * D::volume(radius, config_.thickness);
     const std::uint64_t id = next_id_++;
@@ -222,6 +223,7 @@ class Simulation {
   /// dropped: frame() then has no contacts until the next recorded step.
   template <class Pred>
   std::size_t remove_particles(Pred&& pred) {
+    list_.detach(particles_);  // the slots the rows name change here
     particles_.clear_ghosts();
     std::vector<bool> keep(particles_.owned());
     std::size_t removed = 0;
@@ -351,6 +353,8 @@ class Simulation {
   const Body<D>& body(std::uint32_t b) const { return bodies_.at(b); }
   std::size_t body_count() const { return bodies_.size(); }
   const std::vector<Wall<D>>& walls() const { return walls_; }
+  /// The list of the last build; its rows are empty from adding or removing particles until
+  /// the next step (PairList::detach).
   const List& neighbour_list() const { return list_; }
   /// Number of touching pairs and particle-wall contacts at the last force evaluation.
   std::size_t contact_count() const { return contacts_; }
@@ -679,15 +683,23 @@ class Simulation {
       Simulation& sim;
       ~Restore() { sim.setup_evaluation_ = false; }
     } restore{*this};
-    std::vector<State> saved, saved_walls;
+    std::vector<std::uint32_t> saved_slots;
+    std::vector<typename List::HistoryPool> saved_pools;
+    std::vector<State> saved_walls;
     if constexpr (kHasState) {
-      saved = list_.state;
+      saved_slots = list_.slot;
+      saved_pools = list_.pools;
       saved_walls = list_.wall_state;
     }
     setup_evaluation_ = true;
     compute_forces(contacts_wanted(step_) || record_next_);
     if constexpr (kHasState) {
-      list_.state.swap(saved);
+      list_.slot.swap(saved_slots);
+      // Assigned, not swapped: the copies have no spare room (PairList::transfer reserved it).
+      for (std::size_t l = 0; l < saved_pools.size(); ++l) {
+        list_.pools[l].states.assign(saved_pools[l].states.begin(), saved_pools[l].states.end());
+        list_.pools[l].free.assign(saved_pools[l].free.begin(), saved_pools[l].free.end());
+      }
       list_.wall_state.swap(saved_walls);
     }
   }
@@ -858,22 +870,25 @@ class Simulation {
     const auto& p = particles_;
     contact::ContactGeometry<D> g;
     static const State kEmpty{};
-    for (std::size_t i = 0; i < p.owned(); ++i) {
-      for (std::uint32_t e = list_.row_begin[i]; e < list_.row_begin[i + 1]; ++e) {
-        const std::uint32_t j = list_.nbr[e];
-        if (!pair_geometry(i, j, g)) continue;
-        const State& s = kHasState ? list_.state[e] : kEmpty;
-        f(g, pair_params(i, j), s, i, j, 0u);
-      }
-      for (std::uint32_t e = list_.wall_begin[i]; e < list_.wall_begin[i + 1]; ++e) {
-        const auto we = list_.wall[e];
-        const Wall<D>& w = walls_[we.wall];
-        const Body<D>& b = bodies_[w.body];
-        w.for_each_contact(b, p.x[i], p.radius[i], [&](const geometry::SurfacePoint<D>& sp) {
-          if (sp.feature != we.feature || !wall_geometry(i, sp, b, g)) return;
-          const State& s = kHasState ? list_.wall_state[e] : kEmpty;
-          f(g, params_[p.material[i] * materials_.size() + w.material], s, i, we.wall, 1u);
-        });
+    // Row by row within each layer: an entry's history lives in its layer's pool.
+    for (std::size_t l = 0; l < list_.layers(); ++l) {
+      for (std::size_t i = list_.layer_begin[l]; i < list_.layer_begin[l + 1]; ++i) {
+        for (std::uint32_t e = list_.row_begin[i]; e < list_.row_begin[i + 1]; ++e) {
+          const std::uint32_t j = list_.nbr[e];
+          if (!pair_geometry(i, j, g)) continue;
+          const State* h = kHasState ? list_.history(l, e) : nullptr;
+          f(g, pair_params(i, j), h ? *h : kEmpty, i, j, 0u);
+        }
+        for (std::uint32_t e = list_.wall_begin[i]; e < list_.wall_begin[i + 1]; ++e) {
+          const auto we = list_.wall[e];
+          const Wall<D>& w = walls_[we.wall];
+          const Body<D>& b = bodies_[w.body];
+          w.for_each_contact(b, p.x[i], p.radius[i], [&](const geometry::SurfacePoint<D>& sp) {
+            if (sp.feature != we.feature || !wall_geometry(i, sp, b, g)) return;
+            const State& s = kHasState ? list_.wall_state[e] : kEmpty;
+            f(g, params_[p.material[i] * materials_.size() + w.material], s, i, we.wall, 1u);
+          });
+        }
       }
     }
   }
@@ -1011,11 +1026,12 @@ class Simulation {
       const Params* prow = &params_[p.material[i] * nm];
       for (std::uint32_t e = list_.row_begin[i]; e < list_.row_begin[i + 1]; ++e) {
         const std::uint32_t j = list_.nbr[e];
-        State& s = kHasState ? list_.state[e] : scratch;
         if (!pair_geometry(i, j, g)) {
-          if constexpr (kHasState) s = State{};
+          if constexpr (kHasState) list_.drop(l, e);
           continue;
         }
+        if constexpr (kHasState) list_.acquire(l, e);
+        State& s = kHasState ? *list_.history(l, e) : scratch;
         if (g.overlap > max_ratio * std::min(g.r_i, g.r_j) && acc.bad_row == std::numeric_limits<std::size_t>::max()) {
           acc.bad_row = i;
           acc.bad_partner = j < n ? j : p.ghost_owner[j - n];
@@ -1146,13 +1162,15 @@ class Simulation {
           ns += !touch;
         }
       }
+      // Separated pairs give their history slots back before new contacts take slots.
       if constexpr (kHasState) {
-        for (std::size_t k = nt; k < entries; ++k) list_.state[sorted[k]] = State{};
+        for (std::size_t k = nt; k < entries; ++k) list_.drop(l, sorted[k]);
+        for (std::size_t k = 0; k < nt; ++k) list_.acquire(l, sorted[k]);
       }
       Chunk chunk;
       for (std::size_t k = 0; k < nt;) {
         k = fill_chunk(chunk, sorted, rows, k, nt);
-        evaluate_chunk(chunk, acc);
+        evaluate_chunk(chunk, acc, l);
       }
       for (std::size_t i = r0; i < r1; ++i) {
         if (list_.wall_begin[i] == list_.wall_begin[i + 1]) continue;
@@ -1182,7 +1200,7 @@ class Simulation {
       if (p.material[i] * nm + p.material[j] != prm) break;
       chunk.i[c] = i;
       chunk.j[c] = j;
-      chunk.entry[c] = e;
+      if constexpr (kHasState) chunk.history[c] = list_.slot[e];
       const Vec d = p.x[i] - p.x[j];
       const Vec dv = p.v[i] - p.v[j];
       const AngVec& wi = p.omega[i];
@@ -1212,7 +1230,7 @@ class Simulation {
 
   // Passes 2 and 3 of the packed pair loop (contact/packed.hpp) for one chunk; empties it.
   template <class Chunk>
-  void evaluate_chunk(Chunk& chunk, LayerAccumulator& acc) {
+  void evaluate_chunk(Chunk& chunk, LayerAccumulator& acc, std::size_t l) {
     using LD = Dim3Lanes;
     using PackedState = typename Model::template State<LD>;
     auto& p = particles_;
@@ -1239,7 +1257,8 @@ class Simulation {
       PackedState s{};
       State* slots[lane_width];
       if constexpr (kHasState) {
-        for (std::size_t q = 0; q < lane_width; ++q) slots[q] = &list_.state[chunk.entry[k + q]];
+        State* const pool = list_.pools[l].states.data();
+        for (std::size_t q = 0; q < lane_width; ++q) slots[q] = pool + chunk.history[k + q];
         contact::PackedState<State, PackedState>::load(s, slots);
       }
       const contact::ContactForce<LD> cf = Model::evaluate(prm, g, s);

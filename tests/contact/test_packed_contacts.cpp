@@ -166,7 +166,7 @@ void check_packed_against_scalar(double dt, std::uint64_t seed) {
     chunk->in[Chunk::rj][c] = in.rj;
     chunk->in[Chunk::inv_mi][c] = in.inv_mi;
     chunk->in[Chunk::inv_mj][c] = in.inv_mj;
-    chunk->i[c] = chunk->j[c] = chunk->entry[c] = static_cast<std::uint32_t>(c);
+    chunk->i[c] = chunk->j[c] = chunk->history[c] = static_cast<std::uint32_t>(c);
     ++chunk->count;
   }
   chunk->pad();
@@ -180,7 +180,7 @@ void check_packed_against_scalar(double dt, std::uint64_t seed) {
     chunk->template geometry<Model::needs_rolling_inertia, Model::needs_twist>(k, dt, g);
     PackedState s{};
     StoredState<Model>* slots[W];
-    for (std::size_t q = 0; q < W; ++q) slots[q] = &packed_states[chunk->entry[k + q]];
+    for (std::size_t q = 0; q < W; ++q) slots[q] = &packed_states[chunk->history[k + q]];
     if constexpr (Model::template has_state<Dim3>) contact::PackedState<StoredState<Model>, PackedState>::load(s, slots);
     const auto cf = Model::evaluate(prm, g, s);
     if constexpr (Model::template has_state<Dim3>)

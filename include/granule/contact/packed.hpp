@@ -62,7 +62,8 @@ struct PairChunk {
   // Inputs, copied in pass 1.
   enum Field { dx, dy, dz, ri, rj, inv_mi, inv_mj, dvx, dvy, dvz, wix, wiy, wiz, wjx, wjy, wjz, fields };
   alignas(64) double in[fields][Capacity];
-  std::uint32_t i[Capacity], j[Capacity], entry[Capacity];
+  std::uint32_t i[Capacity], j[Capacity];
+  std::uint32_t history[Capacity];  ///< history slot of each contact (PairList::slot)
   // Outputs of pass 2: force on i, torques on i and j.
   enum Out { fx, fy, fz, tix, tiy, tiz, tjx, tjy, tjz, outs };
   alignas(64) double out[outs][Capacity];
@@ -79,7 +80,7 @@ struct PairChunk {
       for (std::size_t f = 0; f < fields; ++f) in[f][c] = in[f][count - 1];
       i[c] = i[count - 1];
       j[c] = j[count - 1];
-      entry[c] = entry[count - 1];
+      history[c] = history[count - 1];
     }
   }
 

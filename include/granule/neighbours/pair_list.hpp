@@ -7,9 +7,18 @@
 // smaller; a ghost (periodic image) is always in the row of the real particle. Wall candidates
 // (wall index, surface feature) within r_i + skin are listed per row the same way.
 //
-// History keys: a pair entry is keyed by (id of the partner, code of the relative periodic image)
-// so that history survives re-sorting, wrapping through a periodic face and the pair moving to
-// the other particle's row (then it is reversed: ContactModel::reverse).
+// History: only pairs in contact hold one. Entry e of a row in cell layer l has its history in
+// pools[l].states[slot[e]], or none (slot kNone: zero history, as for a pair that never
+// touched). A pool belongs to one layer, which one thread processes at a time, so the pair loop
+// takes and gives back slots without locks; a slot freed when its pair separates is reused.
+// About 60 % of the list's entries touch in a settled bed: a slot per entry would hold the
+// history of the whole skin (docs/performance.md, "Memory").
+//
+// Transfer across a rebuild: a pair is keyed by (id of the partner, code of the relative
+// periodic image), so that history survives re-sorting, wrapping through a periodic face and the
+// pair moving to the other particle's row (then it is reversed: ContactModel::reverse). The keys
+// are computed when the list is detached from the particle store (detach(): at the start of a
+// rebuild, or before particles are added or removed), not stored per entry.
 #include <algorithm>
 #include <cstdint>
 #include <limits>
@@ -39,7 +48,12 @@ class PairList {
 
   std::vector<std::uint32_t> row_begin;   ///< size owned + 1
   std::vector<std::uint32_t> nbr;         ///< partner slot per entry
-  std::vector<State> state;               ///< history per entry (empty when !HasState)
+  std::vector<std::uint32_t> slot;        ///< history slot per entry, kNone if none (empty when !HasState)
+  struct HistoryPool {
+    std::vector<State> states;
+    std::vector<std::uint32_t> free;  ///< slots of states given back, reused first
+  };
+  std::vector<HistoryPool> pools;         ///< per cell layer (empty when !HasState)
   std::vector<std::uint32_t> wall_begin;  ///< size owned + 1
   std::vector<WallEntry> wall;            ///< wall candidates per row
   std::vector<State> wall_state;          ///< history per wall entry (empty when !HasState)
@@ -50,12 +64,81 @@ class PairList {
   std::size_t layers() const { return layer_begin.empty() ? 0 : layer_begin.size() - 1; }
   std::size_t entries() const { return nbr.size(); }
 
+  /// History of entry e (its row in layer l), nullptr if it has none (zero history).
+  State* history(std::size_t l, std::uint32_t e) {
+    return slot[e] == kNone ? nullptr : &pools[l].states[slot[e]];
+  }
+  const State* history(std::size_t l, std::uint32_t e) const {
+    return slot[e] == kNone ? nullptr : &pools[l].states[slot[e]];
+  }
+  /// Gives entry e (its row in layer l) a zero history slot if it has none.
+  void acquire(std::size_t l, std::uint32_t e) {
+    if (slot[e] != kNone) return;
+    HistoryPool& pool = pools[l];
+    if (!pool.free.empty()) {
+      slot[e] = pool.free.back();
+      pool.free.pop_back();
+      pool.states[slot[e]] = State{};
+      return;
+    }
+    // Grow by a quarter, not the doubling of push_back: pools hold most of the list's memory.
+    if (pool.states.size() == pool.states.capacity())
+      pool.states.reserve(pool.states.size() + pool.states.size() / 4 + 8);
+    slot[e] = static_cast<std::uint32_t>(pool.states.size());
+    pool.states.emplace_back();
+  }
+  /// Entry e (its row in layer l) separated: its history, if any, is forgotten.
+  void drop(std::size_t l, std::uint32_t e) {
+    if (slot[e] == kNone) return;
+    pools[l].free.push_back(slot[e]);
+    slot[e] = kNone;
+  }
+  /// Entries holding a history slot.
+  std::size_t histories() const {
+    std::size_t c = 0;
+    for (const auto& pool : pools) c += pool.states.size() - pool.free.size();
+    return c;
+  }
+
+  /// Computes the transfer keys of every pair that holds history from the store as it is, and
+  /// lets go of the rows: call it before the store's slots change (particles added or removed);
+  /// rebuild() calls it itself. Until the next rebuild the list must not be used.
+  void detach(const ParticleStore<D>& p) {
+    if (detached_ || row_begin.empty()) return;
+    detached_ = true;
+    const std::size_t n = row_begin.size() - 1;
+    old_row_of_id_.swap(row_of_id_);
+    old_wall_begin_.swap(wall_begin);
+    old_wall_.swap(wall);
+    old_wall_state_.swap(wall_state);
+    if constexpr (HasState) {
+      old_row_begin_.assign(n + 1, 0);
+      old_key_.clear();
+      old_state_.clear();
+      const std::size_t held = histories();
+      old_key_.reserve(held);
+      old_state_.reserve(held);
+      for (std::size_t l = 0; l < layers(); ++l) {
+        for (std::size_t i = layer_begin[l]; i < layer_begin[l + 1]; ++i) {
+          for (std::uint32_t e = row_begin[i]; e < row_begin[i + 1]; ++e) {
+            if (slot[e] == kNone) continue;
+            old_key_.push_back(pair_key(p, i, nbr[e]));
+            old_state_.push_back(pools[l].states[slot[e]]);
+          }
+          old_row_begin_[i + 1] = static_cast<std::uint32_t>(old_key_.size());
+        }
+      }
+    }
+    release(row_begin, nbr, slot, pools);
+  }
+
   /// Rebuilds the list. `reversed(State&)` turns a pair's history into its mirror image;
   /// `collect_walls(slot, x, reach, emit)` must call emit(wall, feature) for every wall feature
   /// within `reach` of x.
   template <class Policy, class Reverse, class CollectWalls>
   void rebuild(ParticleStore<D>& p, const Domain<D>& dom, double skin, Reverse&& reversed,
                CollectWalls&& collect_walls) {
+    detach(p);
     domain_cache_ = dom;
     p.clear_ghosts();
     wrap(p, dom);
@@ -78,39 +161,17 @@ class PairList {
     p.trim_capacity();
     if constexpr (Policy::uses_cells) bin_all(p, dom);
 
-    // Old rows, indexed by particle id, for the history transfer.
-    old_row_begin_.swap(row_begin);
-    old_key_.swap(key_);
-    old_state_.swap(state);
-    old_wall_begin_.swap(wall_begin);
-    old_wall_.swap(wall);
-    old_wall_state_.swap(wall_state);
-    old_row_of_id_.swap(row_of_id_);
-
     build_rows<Policy>(p, skin);
     build_walls(p, skin, collect_walls);
+    build_layers<Policy>(p);
     if constexpr (HasState) transfer(p, reversed);
     // The old rows are needed only for the transfer: holding them until the next rebuild would
     // double the list's memory (a rebuild every few hundred steps allocates them afresh).
     release(old_row_begin_, old_key_, old_state_, old_wall_begin_, old_wall_, old_wall_state_, old_row_of_id_);
     // Likewise the cell grid: only the rows are used between builds (about 25 B per particle).
     release(cell_of_, cell_start_, cell_items_, cell_coords_);
-
-    layer_begin.clear();
-    if constexpr (Policy::uses_cells) {
-      const int a = layer_axis_;
-      const int nl = ncell_[a];
-      layer_begin.assign(static_cast<std::size_t>(nl) + 1, 0);
-      std::size_t i = 0;
-      for (int l = 0; l < nl; ++l) {
-        layer_begin[l] = static_cast<std::uint32_t>(i);
-        while (i < n && cell_coord(p.x[i], dom, a) <= l) ++i;
-      }
-      layer_begin[nl] = static_cast<std::uint32_t>(n);
-    } else {
-      layer_begin = {0u, static_cast<std::uint32_t>(n)};
-    }
     x_at_build.assign(p.x.begin(), p.x.begin() + n);
+    detached_ = false;
     ++builds;
   }
 
@@ -119,25 +180,32 @@ class PairList {
     return id < row_of_id_.size() ? row_of_id_[id] : kNone;
   }
 
-  /// Writes everything a later step depends on (rows, history, keys, layers, build positions),
+  /// Writes everything a later step depends on (rows, history, layers, build positions),
   /// so that a restart continues bitwise identically without an extra rebuild.
   template <class W>
   void save(W& w) const {
-    w.vec(row_begin); w.vec(nbr); w.vec(state); w.vec(wall_begin); w.vec(wall); w.vec(wall_state);
-    w.vec(layer_begin); w.vec(x_at_build); w.vec(key_); w.vec(row_of_id_);
+    w.vec(row_begin); w.vec(nbr); w.vec(slot); w.vec(wall_begin); w.vec(wall); w.vec(wall_state);
+    w.vec(layer_begin); w.vec(x_at_build); w.vec(row_of_id_);
+    w.template pod<std::uint64_t>(pools.size());
+    for (const auto& pool : pools) { w.vec(pool.states); w.vec(pool.free); }
     w.template pod<std::uint64_t>(builds);
   }
   template <class R>
   void load(R& r) {
-    r.vec(row_begin); r.vec(nbr); r.vec(state); r.vec(wall_begin); r.vec(wall); r.vec(wall_state);
-    r.vec(layer_begin); r.vec(x_at_build); r.vec(key_); r.vec(row_of_id_);
+    r.vec(row_begin); r.vec(nbr); r.vec(slot); r.vec(wall_begin); r.vec(wall); r.vec(wall_state);
+    r.vec(layer_begin); r.vec(x_at_build); r.vec(row_of_id_);
+    pools.resize(r.template pod<std::uint64_t>());
+    for (auto& pool : pools) { r.vec(pool.states); r.vec(pool.free); }
     builds = r.template pod<std::uint64_t>();
+    detached_ = false;
   }
 
   /// Memory held by the list, its history and the search's work arrays [bytes].
   std::size_t memory_bytes() const {
-    return row_begin.capacity() * 4 + nbr.capacity() * 4 + key_.capacity() * 8 +
-           state.capacity() * sizeof(State) * HasState + wall_begin.capacity() * 4 +
+    std::size_t pooled = 0;
+    for (const auto& pool : pools) pooled += pool.states.capacity() * sizeof(State) + pool.free.capacity() * 4;
+    return row_begin.capacity() * 4 + nbr.capacity() * 4 + slot.capacity() * 4 + pooled +
+           pools.capacity() * sizeof(HistoryPool) + wall_begin.capacity() * 4 +
            wall.capacity() * sizeof(WallEntry) + wall_state.capacity() * sizeof(State) * HasState +
            x_at_build.capacity() * sizeof(Vec) + cell_start_.capacity() * 4 +
            cell_items_.capacity() * 4 + row_of_id_.capacity() * 4 + layer_begin.capacity() * 4 +
@@ -149,6 +217,26 @@ class PairList {
   template <class... V>
   static void release(V&... v) {
     (std::remove_reference_t<V>().swap(v), ...);
+  }
+
+  // Row ranges of the cell layers (the rows are in cell order, the layer axis slowest).
+  template <class Policy>
+  void build_layers(const ParticleStore<D>& p) {
+    const std::size_t n = p.owned();
+    layer_begin.clear();
+    if constexpr (Policy::uses_cells) {
+      const int a = layer_axis_;
+      const int nl = ncell_[a];
+      layer_begin.assign(static_cast<std::size_t>(nl) + 1, 0);
+      std::size_t i = 0;
+      for (int l = 0; l < nl; ++l) {
+        layer_begin[l] = static_cast<std::uint32_t>(i);
+        while (i < n && cell_coord(p.x[i], domain_cache_, a) <= l) ++i;
+      }
+      layer_begin[nl] = static_cast<std::uint32_t>(n);
+    } else {
+      layer_begin = {0u, static_cast<std::uint32_t>(n)};
+    }
   }
 
   // ---- periodic wrapping --------------------------------------------------------------------
@@ -330,12 +418,7 @@ class PairList {
     }
     row_of_id_.assign(max_id(p) + 1, kNone);
     for (std::size_t i = 0; i < n; ++i) row_of_id_[p.id[i]] = static_cast<std::uint32_t>(i);
-    if constexpr (HasState) {
-      key_.resize(nbr.size());
-      for (std::size_t i = 0; i < n; ++i)
-        for (std::uint32_t e = row_begin[i]; e < row_begin[i + 1]; ++e) key_[e] = pair_key(p, i, nbr[e]);
-      state.assign(nbr.size(), State{});
-    }
+    if constexpr (HasState) slot.assign(nbr.size(), kNone);
   }
 
   int cell_coord_cached(std::size_t i, int k) const { return cell_coords_[i][k]; }
@@ -379,31 +462,69 @@ class PairList {
     return p.id[j] * kImageCodes + image_code(relative_image(p, i, j));
   }
 
+  // Capacity of a pool that holds `held` histories after a rebuild: room for the contacts that
+  // form before the next one (more grow the pool by a quarter, see acquire).
+  static std::size_t spare_room(std::size_t held) { return held + held / 16 + 8; }
+
+  // Gives each new entry the history its pair held in the old rows (detach()), in the same row
+  // or, reversed, in the partner's; layer by layer, as each layer fills its own pool, sized for the
+  // pairs that touch now.
   template <class Reverse>
   void transfer(const ParticleStore<D>& p, Reverse&& reversed) {
-    if (old_row_begin_.empty()) return;
-    const std::size_t n = p.owned();
-#pragma omp parallel for schedule(static) if (n >= 2048)
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint64_t id_i = p.id[i];
-      const std::uint32_t old_i = id_i < old_row_of_id_.size() ? old_row_of_id_[id_i] : kNone;
-      for (std::uint32_t e = row_begin[i]; e < row_begin[i + 1]; ++e) {
-        const std::uint64_t k = key_[e];
-        bool found = false;
-        if (old_i != kNone) {
-          for (std::uint32_t o = old_row_begin_[old_i]; o < old_row_begin_[old_i + 1]; ++o)
-            if (old_key_[o] == k) { state[e] = old_state_[o]; found = true; break; }
+    const std::size_t nl = layers();
+    pools.assign(nl, HistoryPool{});
+    const bool has_old = !old_row_begin_.empty();
+    auto old_history = [&](std::uint32_t old_row, std::uint64_t key) -> const State* {
+      for (std::uint32_t o = old_row_begin_[old_row]; o < old_row_begin_[old_row + 1]; ++o)
+        if (old_key_[o] == key) return &old_state_[o];
+      return nullptr;
+    };
+    auto old_row = [&](std::uint64_t id) { return id < old_row_of_id_.size() ? old_row_of_id_[id] : kNone; };
+#pragma omp parallel for schedule(dynamic, 1) if (p.owned() >= 2048)
+    for (std::size_t l = 0; l < nl; ++l) {
+      auto& states = pools[l].states;
+      // The pairs that touch now take slots at the next step, whether they held history or not.
+      std::size_t touching = 0;
+      for (std::size_t i = layer_begin[l]; i < layer_begin[l + 1]; ++i)
+        for (std::uint32_t e = row_begin[i]; e < row_begin[i + 1]; ++e) {
+          const double rs = p.radius[i] + p.radius[nbr[e]];
+          touching += (p.x[i] - p.x[nbr[e]]).squaredNorm() < rs * rs;
         }
-        if (found) continue;
-        // The pair may have been stored in the partner's row, seen from the other side.
-        const std::uint64_t id_j = k / kImageCodes;
-        const std::uint32_t old_j = id_j < old_row_of_id_.size() ? old_row_of_id_[id_j] : kNone;
-        if (old_j == kNone) continue;
-        const Image rel = relative_image(p, i, nbr[e]);
-        const std::uint64_t back = id_i * kImageCodes + image_code(Image(-rel));
-        for (std::uint32_t o = old_row_begin_[old_j]; o < old_row_begin_[old_j + 1]; ++o)
-          if (old_key_[o] == back) { state[e] = old_state_[o]; reversed(state[e]); break; }
+      states.reserve(spare_room(touching));
+      for (std::size_t i = layer_begin[l]; i < layer_begin[l + 1] && has_old; ++i) {
+        const std::uint64_t id_i = p.id[i];
+        const std::uint32_t old_i = old_row(id_i);
+        for (std::uint32_t e = row_begin[i]; e < row_begin[i + 1]; ++e) {
+          const std::uint32_t j = nbr[e];
+          const Image rel = relative_image(p, i, j);
+          const std::uint64_t id_j = p.id[j];  // a ghost carries its owner's id
+          const State* h = old_i != kNone ? old_history(old_i, id_j * kImageCodes + image_code(rel)) : nullptr;
+          bool reverse = false;
+          if (!h) {
+            // The pair may have been stored in the partner's row, seen from the other side.
+            const std::uint32_t old_j = old_row(id_j);
+            if (old_j != kNone) h = old_history(old_j, id_i * kImageCodes + image_code(Image(-rel)));
+            reverse = h != nullptr;
+          }
+          if (!h) continue;
+          slot[e] = static_cast<std::uint32_t>(states.size());
+          states.push_back(*h);
+          if (reverse) reversed(states.back());
+        }
       }
+      // No more room than spare_room: push_back may have doubled the capacity.
+      const std::size_t room = spare_room(std::max(states.size(), touching));
+      if (states.capacity() > room) {
+        std::vector<State> fitted;
+        fitted.reserve(room);
+        fitted.assign(states.begin(), states.end());
+        states.swap(fitted);
+      } else {
+        states.reserve(room);
+      }
+    }
+    for (std::size_t i = 0; i < p.owned() && has_old; ++i) {
+      const std::uint32_t old_i = old_row(p.id[i]);
       if (old_i == kNone) continue;
       for (std::uint32_t e = wall_begin[i]; e < wall_begin[i + 1]; ++e)
         for (std::uint32_t o = old_wall_begin_[old_i]; o < old_wall_begin_[old_i + 1]; ++o)
@@ -421,8 +542,8 @@ class PairList {
   std::size_t ncells_total_ = 0;
   std::vector<std::uint32_t> cell_of_, cell_start_, cell_items_;
   std::vector<Eigen::Matrix<int, D::dim, 1>> cell_coords_;
-  std::vector<std::uint64_t> key_;
   std::vector<std::uint32_t> row_of_id_;
+  bool detached_ = false;
   std::vector<std::uint32_t> old_row_begin_, old_row_of_id_, old_wall_begin_;
   std::vector<std::uint64_t> old_key_;
   std::vector<State> old_state_, old_wall_state_;
