@@ -1200,7 +1200,7 @@ class Simulation {
       if (p.material[i] * nm + p.material[j] != prm) break;
       chunk.i[c] = i;
       chunk.j[c] = j;
-      if constexpr (kHasState) chunk.history[c] = list_.slot[e];
+      chunk.history[c] = kHasState ? list_.slot[e] : 0u;  // (no slots without history)
       const Vec d = p.x[i] - p.x[j];
       const Vec dv = p.v[i] - p.v[j];
       const AngVec& wi = p.omega[i];
