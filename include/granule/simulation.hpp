@@ -590,8 +590,7 @@ class Simulation {
   };
 
   // Work arrays of the packed pair loop, one per thread (process_layer_packed): the layer's
-  // list entries that touch, from the front, and those that do not, from the back; the row of
-  // each touching entry.
+  // list entries that touch and the row of each.
   struct PairWork {
     std::vector<std::uint32_t> entries, rows;
   };
@@ -1125,10 +1124,13 @@ class Simulation {
   }
 
   // process_layer<false> with the particle pairs evaluated W at a time (contact/packed.hpp);
-  // the walls stay one at a time. Pass 1 sorts the layer's entries into touching and separated
-  // ones without a branch (which pair touches is unpredictable: a third do not), then the
-  // touching pairs go through chunks. A chunk holds pairs of one parameter set: a change of
-  // material pair flushes it.
+  // the walls stay one at a time. Pass 1 lists the layer's touching entries without a branch
+  // (which pair touches is unpredictable: a third do not) and moves history slots (a pair that
+  // starts touching takes one, one that separates gives it back); then the touching pairs go
+  // through chunks. A chunk holds pairs of one parameter set: a change of material pair flushes
+  // it. (Copying every entry into the chunk in pass 1, so that only the count depends on the
+  // touch, saves re-reading the partner but was 5-10 % slower: the copy is bound by its stores,
+  // and a third of them would be for separated pairs. docs/performance.md)
   GRANULE_FLATTEN void process_layer_packed(std::size_t l) {
     if constexpr (kPackable) {
       using Chunk = contact::PairChunk<64>;
@@ -1145,9 +1147,8 @@ class Simulation {
       work.rows.resize(entries);
       std::uint32_t* const sorted = work.entries.data();
       std::uint32_t* const rows = work.rows.data();
-      // Both slots get e; the one whose count does not advance is overwritten later (when they
-      // coincide, at the last entry, both hold e anyway).
-      std::size_t nt = 0, ns = 0;
+      // Every entry is written at the count, which only a touching one advances.
+      std::size_t nt = 0;
       for (std::size_t i = r0; i < r1; ++i) {
         const Vec xi = p.x[i];
         const double ri = p.radius[i];
@@ -1155,17 +1156,21 @@ class Simulation {
           const std::uint32_t j = list_.nbr[e];
           const double rs = ri + p.radius[j];
           const bool touch = (xi - p.x[j]).squaredNorm() < rs * rs;
-          sorted[entries - 1 - ns] = e;
+          // Slots move only where the touch changed since the last step: a predictable branch.
+          // (Slots are taken and given back in entry order, so they do not depend on threads.)
+          if constexpr (kHasState) {
+            if (touch == (list_.slot[e] == List::kNone)) {
+              if (touch) {
+                list_.acquire(l, e);
+              } else {
+                list_.drop(l, e);
+              }
+            }
+          }
           sorted[nt] = e;
           rows[nt] = static_cast<std::uint32_t>(i);
           nt += touch;
-          ns += !touch;
         }
-      }
-      // Separated pairs give their history slots back before new contacts take slots.
-      if constexpr (kHasState) {
-        for (std::size_t k = nt; k < entries; ++k) list_.drop(l, sorted[k]);
-        for (std::size_t k = 0; k < nt; ++k) list_.acquire(l, sorted[k]);
       }
       Chunk chunk;
       for (std::size_t k = 0; k < nt;) {
