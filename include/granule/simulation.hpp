@@ -1129,7 +1129,7 @@ class Simulation {
   // starts touching takes one, one that separates gives it back); then the touching pairs go
   // through chunks. A chunk holds pairs of one parameter set: a change of material pair flushes
   // it. (Copying every entry into the chunk in pass 1, so that only the count depends on the
-  // touch, saves re-reading the partner but was 5-10 % slower: the copy is bound by its stores,
+  // touch, saves re-reading the partner but was 5-12 % slower: the copy is bound by its stores,
   // and a third of them would be for separated pairs. docs/performance.md)
   GRANULE_FLATTEN void process_layer_packed(std::size_t l) {
     if constexpr (kPackable) {
