@@ -374,7 +374,7 @@ struct SlotCheck {
   std::size_t made = 0;          ///< contacts made during the run
   std::size_t made_since_build = 0;  ///< ... since the last rebuild
   std::size_t touching_max_since_build = 0;
-  std::size_t pooled = 0;        ///< slots in the pools at the end (held or free)
+  std::size_t pooled = 0;        ///< slots in the pools after the last step (held or free)
   std::size_t builds = 0;        ///< list builds during the run
   std::size_t most_made_between_builds = 0;  ///< the largest made_since_build seen
   /// Largest excess of the pools' slots (held or free) over the most touching pairs since the
@@ -420,12 +420,11 @@ SlotCheck check_slots(Sim& sim, int steps) {
     c.wrong_count += list.histories() != touching;
     c.touching_max = std::max(c.touching_max, touching);
     c.touching_max_since_build = std::max(c.touching_max_since_build, touching);
-    std::size_t pooled = 0;
-    for (const auto& pool : list.pools) pooled += pool.states.size();
-    c.most_excess = std::max(c.most_excess, static_cast<long long>(pooled) - static_cast<long long>(c.touching_max_since_build));
+    c.pooled = 0;
+    for (const auto& pool : list.pools) c.pooled += pool.states.size();
+    c.most_excess = std::max(c.most_excess, static_cast<long long>(c.pooled) - static_cast<long long>(c.touching_max_since_build));
     c.most_made_between_builds = std::max(c.most_made_between_builds, c.made_since_build);
   }
-  for (const auto& pool : sim.neighbour_list().pools) c.pooled += pool.states.size();
   c.builds = sim.neighbour_list().builds - builds0;
   return c;
 }
