@@ -17,7 +17,6 @@ TEMPLATE_TEST_CASE("Contact model State: empty when stateless, one vector per sp
                    Dim3) {
   using D = TestType;
   using Vec = typename D::Vec;
-  using AngVec = typename D::AngVec;
   STATIC_REQUIRE(std::is_empty_v<contact::LinearFrictionless::State<D>>);
   STATIC_REQUIRE(std::is_empty_v<contact::HertzFrictionless::State<D>>);
   STATIC_REQUIRE(std::is_empty_v<
@@ -32,10 +31,12 @@ TEMPLATE_TEST_CASE("Contact model State: empty when stateless, one vector per sp
   STATIC_REQUIRE(sizeof(contact::HertzMindlinLegacy::State<D>) == sizeof(Vec));
   STATIC_REQUIRE(sizeof(contact::LinearSpringDashpot::State<D>) == sizeof(Vec));
   STATIC_REQUIRE(contact::HertzMindlin::has_state<D>);
-  // Tangential state + angular vector, at most padded (3D: 32 + 24 = 56; 2D: GCC places the
-  // scalar torque in the tail padding of the tangential state, 24 + 8 = 32 bytes).
-  constexpr std::size_t epsd_min = sizeof(Vec) + sizeof(double) + sizeof(AngVec);
-  constexpr std::size_t epsd_max = padded(sizeof(contact::MindlinTangential::State<D>) + sizeof(AngVec));
+  // Tangential state + rolling torque (2D: one scalar; 3D: its tangent-plane vector and its
+  // twisting scalar), at most padded (3D: 32 + 24 + 8 = 64; 2D: GCC places the scalar torque in
+  // the tail padding of the tangential state, 24 + 8 = 32 bytes).
+  constexpr std::size_t rolling = D::dim == 3 ? sizeof(Vec) + sizeof(double) : sizeof(double);
+  constexpr std::size_t epsd_min = sizeof(Vec) + sizeof(double) + rolling;
+  constexpr std::size_t epsd_max = padded(sizeof(contact::MindlinTangential::State<D>) + rolling);
   STATIC_REQUIRE(sizeof(contact::HertzMindlinEpsd::State<D>) >= epsd_min);
   STATIC_REQUIRE(sizeof(contact::HertzMindlinEpsd::State<D>) <= epsd_max);
   STATIC_REQUIRE(sizeof(contact::HertzMindlinEpsdSjkr::State<D>) == sizeof(contact::HertzMindlinEpsd::State<D>));
@@ -82,12 +83,15 @@ TEMPLATE_TEST_CASE("Contact model reverse(): history of (j, i) gives the opposit
   typename Model::template State<D> sij{};
   for (int k = 0; k < 10; ++k) Model::evaluate(prm, gij, sij);
   REQUIRE(sij.tangential.fs.norm() > 0.0);
-  REQUIRE(D::norm(sij.rolling.m_spring) > 0.0);
+  REQUIRE(contact::EpsdRolling::squared_norm<D>(sij.rolling) > 0.0);
+  if constexpr (D::dim == 3) REQUIRE(sij.rolling.m_twist != 0.0);
   auto sji = sij;
   Model::reverse(sji);
   CHECK((sji.tangential.fs + sij.tangential.fs).norm() == 0.0);
   CHECK(sji.tangential.kt_old == sij.tangential.kt_old);
-  CHECK(D::norm(sji.rolling.m_spring + sij.rolling.m_spring) == 0.0);
+  // Seen from j: the rolling part of M_k changes sign, the twisting part (M_k . n) does not.
+  CHECK(D::norm(sji.rolling.m_roll + sij.rolling.m_roll) == 0.0);
+  if constexpr (D::dim == 3) CHECK(sji.rolling.m_twist == sij.rolling.m_twist);
   const auto fij = Model::evaluate(prm, gij, sij);
   const auto fji = Model::evaluate(prm, gji, sji);
   const double scale = fij.force.norm();

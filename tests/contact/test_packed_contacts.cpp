@@ -110,8 +110,11 @@ StoredState<Model> random_state(std::mt19937_64& rng, const contact::ContactGeom
     const double kt = Model::TangentialLaw::StiffnessLaw::eval(prm.tangential.stiffness, g, nr, gamma);
     s.tangential.kt_old = kt * uniform(rng, 0.8, 1.25);
   }
-  if constexpr (requires { s.rolling.m_spring; }) {
-    s.rolling.m_spring = uniform(rng, 0.0, 2.0) * 0.5 * g.r_eff * fn * random_unit(rng);
+  if constexpr (requires { s.rolling.m_roll; }) {
+    // Up to twice the limit, split into its tangent-plane and normal parts.
+    const Eigen::Vector3d m = uniform(rng, 0.0, 2.0) * 0.5 * g.r_eff * fn * random_unit(rng);
+    s.rolling.m_twist = m.dot(g.n);
+    s.rolling.m_roll = m - s.rolling.m_twist * g.n;
   }
   return s;
 }
@@ -199,9 +202,10 @@ void check_packed_against_scalar(double dt, std::uint64_t seed) {
         double gamma = 0.0;
         if (Model::TangentialLaw::StiffnessLaw::eval(prm.tangential.stiffness, gs, contact::NormalResult{}, gamma) < before[3]) ++unloading;
       }
-      if constexpr (requires { ss.rolling.m_spring; }) {
+      if constexpr (requires { ss.rolling.m_roll; }) {
         const double mmax = prm.rolling.mu_r * gs.r_eff * std::abs(cs.fn);
-        if (ss.rolling.m_spring.norm() >= (1.0 - 1e-12) * mmax && mmax > 0.0) ++mobilised;
+        const double m = std::sqrt(contact::EpsdRolling::squared_norm<Dim3>(ss.rolling));
+        if (m >= (1.0 - 1e-12) * mmax && mmax > 0.0) ++mobilised;
       }
       const double fscale = 1e-12 * std::max(std::abs(cs.fn), 1e-30);
       const double tscale = fscale * r;
@@ -238,7 +242,7 @@ void check_packed_against_scalar(double dt, std::uint64_t seed) {
     }
     CHECK(fresh >= 3);
   }
-  if constexpr (requires(StoredState<Model> s) { s.rolling.m_spring; }) {
+  if constexpr (requires(StoredState<Model> s) { s.rolling.m_roll; }) {
     if (dt > 0.0) {
       CHECK(mobilised >= 3);
       CHECK(mobilised + 3 <= chunk->count);

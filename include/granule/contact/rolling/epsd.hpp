@@ -10,15 +10,18 @@
 // 001 eq. A14 prints 2.55 -- see docs/physics.md), eta_r the rolling damping ratio and I_r the
 // rolling inertia 1/I_r = 1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2) (Ai et al. 2011 eq. 14).
 //
-// History frame (known limitation): M_k is kept in the world frame and does not follow the
-// contact at all -- it has a twisting part along n and a rolling part in the tangent plane, so
-// neither the projection nor the twist rotation of history.hpp applies to it as it stands. When
-// the pair turns rigidly, M_k stays fixed in space (tests/contact/test_history_objectivity.cpp
-// records this as [!mayfail]). Following the frame needs the twisting and rolling parts stored
-// apart (docs/physics.md).
+// History frame: M_k has a rolling part in the tangent plane and (3D) a twisting part along n,
+// stored apart -- m_roll and the scalar m_twist, M_k = m_roll + m_twist n. Under a rigid rotation
+// of the pair both parts must turn with the contact (frame indifference, Luding 2008 section
+// 2.2.3). The twisting part does so by construction (it is measured along the current n); the
+// rolling part is carried like the tangential spring (history.hpp rotate_history: projected onto
+// the new tangent plane, turned about n by the step's twist angle, length kept) -- exact for a
+// rotation about n, first order in the step angle for a tilt of n, as for the tangential spring.
+// A single world-frame vector would stay fixed in space (tests/contact/test_history_objectivity.cpp).
 #include <cmath>
 
 #include <string>
+#include <type_traits>
 
 #include "granule/contact/geometry.hpp"
 #include "granule/contact/tangential/history.hpp"
@@ -26,17 +29,27 @@
 namespace granule::contact {
 
 struct EpsdRolling {
-  static std::string signature() { return "EpsdRolling"; }
+  static std::string signature() { return "EpsdRolling(roll+twist)"; }
   struct Params {
     double mu_r = 0.0;    ///< [-]
     double factor = 2.25; ///< c in k_r = c k_n mu_r^2 R*^2 [-]
     double eta_r = 0.0;   ///< damping ratio [-]
   };
+  /// 2D: the rolling spring torque about z (nothing twists about an in-plane normal).
   template <class D>
-  struct State {
-    typename D::AngVec m_spring = D::zero_ang();  ///< spring torque on i [N m]
+  struct PlaneState {
+    typename D::Real m_roll = 0.0;  ///< spring torque on i [N m]
   };
+  /// 3D: spring torque on i, M_k = m_roll + m_twist n.
+  template <class D>
+  struct SpaceState {
+    typename D::Vec m_roll = D::zero();  ///< rolling part, in the tangent plane [N m]
+    typename D::Real m_twist = 0.0;      ///< twisting part along n [N m]
+  };
+  template <class D>
+  struct State : std::conditional_t<D::dim == 2, PlaneState<D>, SpaceState<D>> {};
   static constexpr bool needs_inertia = true;
+  static constexpr bool needs_twist = true;  ///< the rolling part turns with the pair about n
   static constexpr bool lanes = true;  ///< eval is written over D::Real (core/lanes.hpp)
   static Params make(const PairMaterial& p) {
     return {p.mu_r, p.rolling_stiffness_factor, p.rolling_damping};
@@ -51,20 +64,37 @@ struct EpsdRolling {
     using AngVec = typename D::AngVec;
     const R kr = p.factor * nr.kn * p.mu_r * p.mu_r * g.r_eff * g.r_eff;
     const R m_max = p.mu_r * g.r_eff * abs(nr.fn);
-    s.m_spring -= kr * g.dt * g.omega_rel;
-    const R m2 = D::squared_norm(s.m_spring);
+    // Increment, then the limit: fully mobilised, the spring is held at the limit and there is
+    // no damping (001 eq. A15).
+    R m2;
+    if constexpr (D::dim == 3) {
+      rotate_history(s.m_roll, g);
+      const R w_n = g.omega_rel.dot(g.n);
+      s.m_roll -= (kr * g.dt) * (g.omega_rel - w_n * g.n);
+      s.m_twist -= kr * g.dt * w_n;
+      m2 = s.m_roll.squaredNorm() + s.m_twist * s.m_twist;
+    } else {
+      s.m_roll -= kr * g.dt * g.omega_rel;
+      m2 = s.m_roll * s.m_roll;
+    }
     const auto mobilised = m2 >= m_max * m_max;
-    // Fully mobilised: the spring is held at the limit and there is no damping (001 eq. A15).
-    AngVec m = s.m_spring;
-    where_assign(mobilised, m, [&]() -> AngVec {
-      R scale = 0.0;
-      where_assign(m2 > 0.0, scale, [&]() -> R { return m_max / sqrt(m2); });
-      return s.m_spring * scale;
+    R scale = 1.0;
+    where_assign(mobilised, scale, [&]() -> R {
+      R limited = 0.0;
+      where_assign(m2 > 0.0, limited, [&]() -> R { return m_max / sqrt(m2); });
+      return limited;
     });
-    s.m_spring = m;
+    s.m_roll = s.m_roll * scale;
+    AngVec m;
+    if constexpr (D::dim == 3) {
+      s.m_twist = s.m_twist * scale;
+      m = s.m_roll + s.m_twist * g.n;
+    } else {
+      m = s.m_roll;
+    }
     where_assign(!mobilised, m, [&]() -> AngVec {
       const R cr = p.eta_r * 2.0 * sqrt(g.i_roll * kr);
-      return s.m_spring - cr * g.omega_rel_damp;
+      return m - cr * g.omega_rel_damp;
     });
     return m;
   }
@@ -73,11 +103,22 @@ struct EpsdRolling {
   static double energy(const Params& p, const ContactGeometry<D>& g, const NormalResult& nr,
                        const State<D>& s) {
     const double kr = p.factor * nr.kn * p.mu_r * p.mu_r * g.r_eff * g.r_eff;
-    return kr > 0.0 ? 0.5 * D::squared_norm(s.m_spring) / kr : 0.0;
+    return kr > 0.0 ? 0.5 * squared_norm<D>(s) / kr : 0.0;
   }
+  /// |M_k|^2 [N^2 m^2].
+  template <class D>
+  static double squared_norm(const State<D>& s) {
+    if constexpr (D::dim == 3) {
+      return s.m_roll.squaredNorm() + s.m_twist * s.m_twist;
+    } else {
+      return s.m_roll * s.m_roll;
+    }
+  }
+  /// Seen from j the spring torque is -M_k and the normal -n: the rolling part changes sign,
+  /// the twisting part (M_k . n) does not.
   template <class D>
   static void reverse(State<D>& s) {
-    reverse_history(s.m_spring);
+    reverse_history(s.m_roll);
   }
 };
 
