@@ -279,7 +279,7 @@ class Simulation {
     // start from gravity) and the particles' rebuild test. (The predicted-damping
     // integrator needs the old forces in compute_forces: it resets them there.)
     constexpr bool reset_here = !kPredictDamping;
-    const double lim2 = 0.25 * skin_used_ * skin_used_;
+    const double lim = list_.rebuild_distance(skin_used_), lim2 = lim * lim;
     const bool test_moves = !Search::rebuild_every_step && list_.x_at_build.size() == n;
     int moved = 0;
 #pragma omp parallel for schedule(static) reduction(| : moved) if (parallel_)
@@ -301,7 +301,7 @@ class Simulation {
           break;
       }
       if constexpr (reset_here) p.torque[i] = D::zero_ang();
-      if (test_moves) moved |= (p.x[i] - list_.x_at_build[i]).squaredNorm() > lim2;
+      if (test_moves) moved |= (p.x[i] - list_.x_at_build[i].template cast<double>()).squaredNorm() > lim2;
     }
     for (auto& b : bodies_) b.advance(time_, dt);
     time_ += dt;

@@ -4,6 +4,7 @@
 // check every list against an N^2 search).
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <string>
 
 #include "engine_helpers.hpp"
@@ -220,4 +221,61 @@ TEMPLATE_TEST_CASE("request_contacts before the first step records that step's c
   sim.request_contacts();
   sim.step();
   CHECK(sim.frame().contacts.size() == 1);
+}
+
+// Reference: the Verlet-list criterion (Verlet 1967; Allen & Tildesley, "Computer Simulation of
+// Liquids", 2nd ed., section 5.3): a list built with skin s stays complete while no particle has
+// moved more than s/2 since the build. The engine keeps the build positions in single precision
+// (neighbours/pair_list.hpp) and subtracts their rounding from s/2, so a particle drifting at
+// constant speed must trigger a rebuild at the first step where its true displacement might
+// exceed s/2: never after it (that could miss a contact), and not earlier than s/2 less twice
+// the rounding bound 2^-24 |x|_inf sqrt(dim). Far from the origin (|x| ~ 100 m) the rounding is
+// several micrometres, 4-7 % of s/2 = 100 um here, so the window is resolved by the 1 um steps;
+// near the origin it is 1e-9 m.
+TEMPLATE_TEST_CASE("The Verlet list rebuilds before any particle has moved half the skin", "[engine][neighbours]",
+                   Dim2, Dim3) {
+  using D = TestType;
+  using Vec = typename D::Vec;
+  for (const double offset : {0.0, 100.0}) {
+    SimulationConfig<D> cfg;
+    cfg.domain.lo = Vec::Constant(offset);
+    cfg.domain.hi = Vec::Constant(offset + 0.05);
+    cfg.dt = 1e-6;
+    cfg.skin = 2e-4;
+    cfg.thickness = 1e-3;
+    Simulation<D, contact::HertzFrictionless, neighbours::VerletList> sim(cfg);
+    const auto mat = sim.add_material(test::soft_material());
+    const Vec x0 = Vec::Constant(offset + 0.0123456789);
+    Vec v = Vec::Zero();
+    v[0] = 1.0;  // [m/s]: 1 um per step
+    if constexpr (D::dim == 3) v[2] = -0.5;
+    sim.add_particle(x0, 1e-3, mat, v);
+    const auto& list = sim.neighbour_list();
+    // The first build is made before the first drift; from the next one on, the list is built
+    // from the positions of the step that rebuilds, which is where the rounds below start.
+    sim.step();
+    for (std::size_t first = list.builds; list.builds == first;) sim.step();
+    const double bound = std::ldexp(std::abs(offset + 0.05), -24) * std::sqrt(double(D::dim));
+    INFO("offset " << offset << " m: rounding of the build positions " << list.build_rounding << " m (bound "
+                   << bound << " m)");
+    CHECK(list.build_rounding <= bound);
+    if (offset > 0.0) CHECK(list.build_rounding > 0.01 * bound);
+    for (int round = 0; round < 3; ++round) {
+      const std::size_t builds = list.builds;
+      const Vec x_build = sim.particles().x[0];
+      double before = 0.0;  // true displacement since the build at the last step without a rebuild
+      int k = 0;
+      while (list.builds == builds && k < 1000) {
+        before = (sim.particles().x[0] - x_build).norm();
+        sim.step();
+        ++k;
+      }
+      const double at = (sim.particles().x[0] - x_build).norm();
+      INFO("round " << round << ": rebuilt after " << k << " steps, displacement " << before << " m before, " << at
+                    << " m at the rebuild");
+      REQUIRE(list.builds == builds + 1);
+      CHECK(before <= 0.5 * cfg.skin);
+      CHECK(at > 0.5 * cfg.skin - 2.0 * bound);
+    }
+  }
 }

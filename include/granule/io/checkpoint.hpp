@@ -25,7 +25,7 @@ namespace granule::io {
 
 inline constexpr char kCheckpointMagic[12] = {'G', 'R', 'A', 'N', 'U', 'L', 'E', '\x01', 'C', 'K', 'P', 'T'};
 // 2: the neighbour list keeps history for touching pairs only (slots and per-layer pools).
-inline constexpr std::uint32_t kCheckpointVersion = 2;
+inline constexpr std::uint32_t kCheckpointVersion = 3;
 
 namespace detail {
 inline std::uint64_t fnv1a(const std::uint8_t* p, std::size_t n) {

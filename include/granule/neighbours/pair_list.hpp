@@ -20,6 +20,7 @@
 // are computed when the list is detached from the particle store (detach(): at the start of a
 // rebuild, or before particles are added or removed), not stored per entry.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -58,7 +59,12 @@ class PairList {
   std::vector<WallEntry> wall;            ///< wall candidates per row
   std::vector<State> wall_state;          ///< history per wall entry (empty when !HasState)
   std::vector<std::uint32_t> layer_begin; ///< row ranges of the cell layers (size layers + 1)
-  std::vector<Vec> x_at_build;            ///< positions of real particles at the last build
+  /// Positions of the real particles at the last build, in single precision: the rebuild test
+  /// needs them only to a small fraction of the skin, and they are 12 of the ~490 bytes a 3D
+  /// particle costs (docs/performance.md, "Memory"). build_rounding bounds the error.
+  using BuildPosition = Eigen::Matrix<float, D::dim, 1>;
+  std::vector<BuildPosition> x_at_build;
+  double build_rounding = 0.0;            ///< max over particles of |x - x_at_build| at the build [m]
   std::size_t builds = 0;
 
   std::size_t layers() const { return layer_begin.empty() ? 0 : layer_begin.size() - 1; }
@@ -170,10 +176,16 @@ class PairList {
     release(old_row_begin_, old_key_, old_state_, old_wall_begin_, old_wall_, old_wall_state_, old_row_of_id_);
     // Likewise the cell grid: only the rows are used between builds (about 25 B per particle).
     release(cell_of_, cell_start_, cell_items_, cell_coords_);
-    x_at_build.assign(p.x.begin(), p.x.begin() + n);
+    record_build_positions(p, n);
     detached_ = false;
     ++builds;
   }
+
+  /// Half the skin less the rounding of the build positions: a particle whose distance from
+  /// its single-precision build position stays within this has moved at most half the skin.
+  /// (0 when positions are so large that rounding eats the half skin -- then every step
+  /// rebuilds; that needs |x| of about 2^23 half skins, kilometres for millimetre grains.)
+  double rebuild_distance(double skin) const { return std::max(0.5 * skin - build_rounding, 0.0); }
 
   /// Slot of the row holding particle `id` (kNone if absent); valid until the next rebuild.
   std::uint32_t row_of_id(std::uint64_t id) const {
@@ -185,7 +197,7 @@ class PairList {
   template <class W>
   void save(W& w) const {
     w.vec(row_begin); w.vec(nbr); w.vec(slot); w.vec(wall_begin); w.vec(wall); w.vec(wall_state);
-    w.vec(layer_begin); w.vec(x_at_build); w.vec(row_of_id_);
+    w.vec(layer_begin); w.vec(x_at_build); w.template pod<double>(build_rounding); w.vec(row_of_id_);
     w.template pod<std::uint64_t>(pools.size());
     for (const auto& pool : pools) { w.vec(pool.states); w.vec(pool.free); }
     w.template pod<std::uint64_t>(builds);
@@ -193,7 +205,7 @@ class PairList {
   template <class R>
   void load(R& r) {
     r.vec(row_begin); r.vec(nbr); r.vec(slot); r.vec(wall_begin); r.vec(wall); r.vec(wall_state);
-    r.vec(layer_begin); r.vec(x_at_build); r.vec(row_of_id_);
+    r.vec(layer_begin); r.vec(x_at_build); build_rounding = r.template pod<double>(); r.vec(row_of_id_);
     pools.resize(r.template pod<std::uint64_t>());
     for (auto& pool : pools) { r.vec(pool.states); r.vec(pool.free); }
     builds = r.template pod<std::uint64_t>();
@@ -207,7 +219,7 @@ class PairList {
     return row_begin.capacity() * 4 + nbr.capacity() * 4 + slot.capacity() * 4 + pooled +
            pools.capacity() * sizeof(HistoryPool) + wall_begin.capacity() * 4 +
            wall.capacity() * sizeof(WallEntry) + wall_state.capacity() * sizeof(State) * HasState +
-           x_at_build.capacity() * sizeof(Vec) + cell_start_.capacity() * 4 +
+           x_at_build.capacity() * sizeof(BuildPosition) + cell_start_.capacity() * 4 +
            cell_items_.capacity() * 4 + row_of_id_.capacity() * 4 + layer_begin.capacity() * 4 +
            cell_of_.capacity() * 4 + cell_coords_.capacity() * sizeof(cell_coords_[0]) +
            order_.capacity() * sizeof(int);
@@ -217,6 +229,16 @@ class PairList {
   template <class... V>
   static void release(V&... v) {
     (std::remove_reference_t<V>().swap(v), ...);
+  }
+
+  void record_build_positions(const ParticleStore<D>& p, std::size_t n) {
+    x_at_build.resize(n);
+    double worst2 = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      x_at_build[i] = p.x[i].template cast<float>();
+      worst2 = std::max(worst2, (p.x[i] - x_at_build[i].template cast<double>()).squaredNorm());
+    }
+    build_rounding = std::sqrt(worst2);
   }
 
   // Row ranges of the cell layers (the rows are in cell order, the layer axis slowest).
