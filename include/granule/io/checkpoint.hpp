@@ -25,6 +25,7 @@ namespace granule::io {
 
 inline constexpr char kCheckpointMagic[12] = {'G', 'R', 'A', 'N', 'U', 'L', 'E', '\x01', 'C', 'K', 'P', 'T'};
 // 2: the neighbour list keeps history for touching pairs only (slots and per-layer pools).
+// 3: the build positions are floats, followed by their rounding (neighbours/pair_list.hpp).
 inline constexpr std::uint32_t kCheckpointVersion = 3;
 
 namespace detail {
