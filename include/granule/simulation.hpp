@@ -67,6 +67,13 @@ struct SimulationConfig {
   /// contacts, collision time for linear ones); see docs/physics.md, "time step".
   double time_step_safety = 0.2;
   bool allow_large_time_step = false;  ///< explicit override of the time-step check
+  /// Refuse a dt above rolling_stability_limit() (EPSD rolling dashpots) when the run starts,
+  /// when dt changes and every stability_check_interval steps (allow_large_time_step also
+  /// turns it off). The limit is conservative: 0.45-0.95 of the measured onset of instability
+  /// for one contact, 0.56-0.59 on a settled bed (docs/physics.md, "Time step").
+  bool check_rolling_stability = true;
+  /// Steps between those checks; 0 = only when the run starts or dt changes.
+  std::uint64_t stability_check_interval = 1000;
   /// An overlap above this fraction of the smaller radius stops the run as unstable.
   double max_overlap_ratio = 0.5;
   /// Evaluate particle pairs W at a time in SIMD lanes where the model allows it (3D, every
@@ -89,6 +96,18 @@ class Simulation {
   using IntegratorPolicy = Integrator;
   using Dimension = D;
   static constexpr bool kHasState = Model::template has_state<D>;
+  /// The tangential law reports its spring-dashpot (coupling rotation and translation).
+  static constexpr bool kTangentialDashpot = requires(const typename Model::TangentialLaw::Params& t,
+                                                       const contact::ContactGeometry<D>& g,
+                                                       const contact::NormalResult& nr) {
+    Model::TangentialLaw::spring_dashpot(t, g, nr);
+  };
+  /// The rolling law has a rotational spring-dashpot whose stability limits dt (EPSD).
+  static constexpr bool kRollingDashpot = requires(const typename Model::RollingLaw::Params& r,
+                                                    const contact::ContactGeometry<D>& g,
+                                                    const contact::NormalResult& nr) {
+    Model::RollingLaw::spring_dashpot(r, g, nr);
+  };
   /// Dashpots act on a predicted end-of-step velocity (integrators/predicted_damping.hpp).
   static constexpr bool kPredictDamping = integrators::predicts_damping_velocity<Integrator>();
   using List = neighbours::PairList<D, State, kHasState>;
@@ -266,6 +285,7 @@ class Simulation {
       // Only the time step changed (set_dt): check it, keep the list and forces as they are so
       // the trajectory is not perturbed by an extra rebuild.
       check_time_step();
+      check_rolling_time_step();
       initialised_ = true;
     }
     const double dt = config_.dt;
@@ -336,6 +356,9 @@ class Simulation {
       // Work of the drive against the particles over this step (rectangle rule at step end).
       b.work -= (b.force.dot(b.current_velocity) + ang_dot(b.torque, b.current_angular_velocity)) * dt;
     }
+    if (config_.check_rolling_stability && config_.stability_check_interval > 0 &&
+        step_ % config_.stability_check_interval == 0)
+      check_rolling_time_step();
     for (auto& o : observers_)
       if (step_ % o.every == 0) o.f(*this);
   }
@@ -428,8 +451,74 @@ class Simulation {
     return tc;
   }
 
-  /// Largest time step the check accepts [s].
-  double suggested_time_step() const { return config_.time_step_safety * critical_time_step(); }
+  /// Largest time step the checks accept [s]: time_step_safety x critical_time_step(), and,
+  /// once forces have been evaluated, no more than rolling_stability_limit().
+  double suggested_time_step() const {
+    return std::min(config_.time_step_safety * critical_time_step(), rolling_stability_limit().limit);
+  }
+
+  /// Where the rotational spring-dashpots of the current contacts (EPSD rolling) limit dt.
+  struct RollingLimit {
+    double limit = std::numeric_limits<double>::infinity();  ///< largest stable dt [s]
+    std::size_t particle = 0;   ///< store index of the particle that sets it
+    std::size_t contacts = 0;   ///< its number of contacts
+  };
+  /// Stability limit of the rotations under the rolling spring-dashpots (EPSD) in the contacts
+  /// of the last force evaluation (infinite for models without them, or before the first step).
+  /// Rotations obey I theta'' = -K theta - C theta' - (coupling to translation through the
+  /// tangential spring); K and C are assembled from the contacts' k_r, C_r on the relative
+  /// rotation and k_t, gamma_t on the slip at the contact point. For every free particle i,
+  /// Gershgorin's theorem on M^-1/2 K M^-1/2 (and C) bounds the largest rate of its rotation rows:
+  ///   w_i^2 = sum_c [ k_r (a_i + sqrt(a_i a_j)) + k_t l_i (l_i a_i + l_j sqrt(a_i a_j)
+  ///                   + sqrt(a_i b_i) + sqrt(a_i b_j)) ]
+  /// with a = 1/I, b = 1/m (0 for a wall or a partner that is not free) and l the lever arms;
+  /// 2 zeta_i w_i the same sum with C_r, gamma_t. The limit is the smallest
+  /// damped_oscillator_stability_limit(w_i, zeta_i): dt^2 w^2 / 4 + dt zeta w <= 1, sufficient
+  /// for K and C that are not proportional. docs/physics.md, "Time step", gives how far it is
+  /// below the measured onsets of instability (one contact, a settled bed).
+  RollingLimit rolling_stability_limit() const {
+    RollingLimit out;
+    if constexpr (kRollingDashpot) {
+      if (!list_valid_ || !forces_ready_) return out;
+      const auto& p = particles_;
+      const std::size_t n = p.owned();
+      // Per free particle: the row sums of K and C, and the number of contacts.
+      std::vector<double> k_sum(n, 0.0), c_sum(n, 0.0);
+      std::vector<std::uint32_t> count(n, 0);
+      const auto free_or_zero = [&](std::size_t i, double value) {
+        return p.motion[i] == Motion::Free ? value : 0.0;
+      };
+      for_each_contact_geometry([&](const contact::ContactGeometry<D>& g, const Params& prm, const State&,
+                                    std::size_t i, std::uint32_t j, std::uint32_t is_wall) {
+        const contact::NormalResult nr = Model::NormalLaw::eval(prm.normal, g);
+        const contact::SpringDashpot roll = Model::RollingLaw::spring_dashpot(prm.rolling, g, nr);
+        contact::SpringDashpot slip;
+        if constexpr (kTangentialDashpot) slip = Model::TangentialLaw::spring_dashpot(prm.tangential, g, nr);
+        const std::size_t o = is_wall != 0u ? i : (j < n ? j : p.ghost_owner[j - n]);
+        const double ai = free_or_zero(i, p.inv_inertia[i]), bi = free_or_zero(i, p.inv_mass[i]);
+        const double aj = is_wall != 0u ? 0.0 : free_or_zero(o, p.inv_inertia[o]);
+        const double bj = is_wall != 0u ? 0.0 : free_or_zero(o, p.inv_mass[o]);
+        const double lj = is_wall != 0u ? 0.0 : static_cast<double>(g.arm_j);
+        const double li = g.arm_i, cross = std::sqrt(ai * aj);
+        // Row of particle `self` (inverse inertia a, mass b, arm l) against the other's (a2, b2, l2).
+        const auto add = [&](std::size_t self, double a, double b, double l, double b2, double l2) {
+          const double r = a + cross, t = l * (l * a + l2 * cross + std::sqrt(a * b) + std::sqrt(a * b2));
+          k_sum[self] += roll.stiffness * r + slip.stiffness * t;
+          c_sum[self] += roll.damping * r + slip.damping * t;
+          ++count[self];
+        };
+        add(i, ai, bi, li, bj, lj);
+        if (is_wall == 0u) add(o, aj, bj, lj, bi, li);
+      });
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!(k_sum[i] > 0.0)) continue;
+        const double w = std::sqrt(k_sum[i]);
+        const double t = damped_oscillator_stability_limit(w, c_sum[i] / (2.0 * w));
+        if (t < out.limit) out = {t, i, count[i]};
+      }
+    }
+    return out;
+  }
 
   /// A self-contained snapshot for analysis and output (contacts only if they were recorded at
   /// the current step: call request_contacts() before the step, or register the observer with
@@ -670,6 +759,7 @@ class Simulation {
     setup_forces();
     record_next_ = pending;
     initialised_ = true;
+    check_rolling_time_step();
   }
 
   // The set-up evaluation: the forces of the initial state for the first half kick. No time has
@@ -715,6 +805,28 @@ class Simulation {
         << "] s: it exceeds time_step_safety (" << config_.time_step_safety << ") x the critical time "
         << tc << " s (" << (Model::NormalLaw::hertzian ? "Rayleigh time" : "linear collision time")
         << " of the smallest particle). Reduce dt, or set allow_large_time_step = true to override.";
+      throw InvalidParameter(s.str());
+    }
+  }
+
+  // dt against rolling_stability_limit(): a bad step stops the run with the particle that
+  // sets the limit (the excess shows as spin that the dashpots pump up to the mobilisation
+  // limit, not as a blow-up, so no later test would catch it).
+  void check_rolling_time_step() const {
+    if constexpr (kRollingDashpot) {
+      if (config_.allow_large_time_step || !config_.check_rolling_stability) return;
+      const RollingLimit r = rolling_stability_limit();
+      if (config_.dt <= r.limit) return;
+      const auto& p = particles_;
+      std::ostringstream s;
+      s.precision(6);
+      s << "SimulationConfig: dt = " << config_.dt << " s is outside the valid range (0, " << r.limit
+        << "] s at step " << step_ << ": the rolling spring-dashpots of particle id " << p.id[r.particle]
+        << " (" << r.contacts << " contacts, at (";
+      for (int k = 0; k < D::dim; ++k) s << (k ? ", " : "") << p.x[r.particle][k];
+      s << ") m) are unstable above " << r.limit
+        << " s (rolling_stability_limit). Reduce dt or rolling_damping, or set "
+           "allow_large_time_step = true to override.";
       throw InvalidParameter(s.str());
     }
   }

@@ -266,6 +266,9 @@ ColumnResult run_column(bool packed, std::size_t steps) {
   cfg.domain.lo = Vec::Zero();
   cfg.domain.hi = len;
   cfg.dt = 1e-5;
+  // 1.15x the EPSD rotational limit of this column (8.7e-6 s, rolling_stability_limit): the
+  // test compares two evaluations of the same 150 steps, not their stability.
+  cfg.check_rolling_stability = false;
   cfg.gravity = Vec(0.0, 0.0, -100.0);  // [m/s^2]
   cfg.packed_contacts = packed;
   Simulation<Dim3, Model> sim(cfg);

@@ -69,6 +69,14 @@ using NormalResult = NormalResultT<double>;
 template <class D>
 using NormalResultOf = NormalResultT<typename D::Real>;
 
+/// A sub-model's linear spring and dashpot at the current state, for the engine's time-step
+/// limit (Simulation::rolling_stability_limit): stiffness [N/m or N m/rad], damping
+/// [N s/m or N m s/rad].
+struct SpringDashpot {
+  double stiffness = 0.0;
+  double damping = 0.0;
+};
+
 /// Total force of one contact. Torques include the lever arm of the tangential force and the
 /// rolling torque; torque_j is the torque on j (walls ignore it).
 template <class D>

@@ -8,6 +8,11 @@
 // (001 writes R of the incident particle: for a particle hitting an equal particle R* = R/2;
 // we use the effective radius, which is what the Hertz solution contains.)
 // Linear spring-dashpot collision time: t_c = pi / sqrt(k/m* - (gamma/(2 m*))^2).
+// Stability of velocity Verlet for a damped oscillator x'' = -w^2 x - 2 zeta w x' (the damping
+// force from the mid-step velocity, as the engine evaluates it): dt <= 2 (sqrt(1 + zeta^2) -
+// zeta) / w, the central-difference limit with damping (Belytschko, Liu & Moran 2000,
+// "Nonlinear Finite Elements for Continua and Structures", section 6.3). It tends to 2/w
+// without damping and to 1/(zeta w) = 2/(damping rate) when overdamped.
 #include <cmath>
 #include <numbers>
 
@@ -39,6 +44,13 @@ inline double hertz_max_overlap(double m_eff, double E_eff, double r_eff, double
 inline double linear_collision_time(double k, double m_eff, double restitution) {
   const double l = std::log(restitution);
   return std::sqrt(m_eff / k) * std::sqrt(std::numbers::pi * std::numbers::pi + l * l);
+}
+
+/// Largest stable velocity-Verlet step of a damped oscillator with angular frequency omega
+/// [rad/s] (> 0) and damping ratio zeta [-] (>= 0). Returns seconds.
+inline double damped_oscillator_stability_limit(double omega, double zeta) {
+  // sqrt(1 + z^2) - z written as 1 / (sqrt(1 + z^2) + z): no cancellation for large zeta.
+  return 2.0 / (omega * (std::sqrt(1.0 + zeta * zeta) + zeta));
 }
 
 }  // namespace granule

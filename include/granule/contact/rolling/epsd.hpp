@@ -55,6 +55,24 @@ struct EpsdRolling {
     return {p.mu_r, p.rolling_stiffness_factor, p.rolling_damping};
   }
 
+  /// k_r = c k_n mu_r^2 R*^2 [N m / rad] from the normal law's k_n [N/m] and R* [m].
+  template <class R>
+  static R stiffness(const Params& p, const R& kn, const R& r_eff) {
+    return p.factor * kn * p.mu_r * p.mu_r * r_eff * r_eff;
+  }
+  /// C_r = eta_r 2 sqrt(I_r k_r) [N m s / rad].
+  template <class R>
+  static R damping(const Params& p, const R& kr, const R& i_roll) {
+    using std::sqrt;
+    return p.eta_r * 2.0 * sqrt(i_roll * kr);
+  }
+  /// k_r and C_r, which act on the relative rotation omega_i - omega_j.
+  template <class D>
+  static SpringDashpot spring_dashpot(const Params& p, const ContactGeometry<D>& g, const NormalResult& nr) {
+    const double kr = stiffness(p, nr.kn, g.r_eff);
+    return {kr, damping(p, kr, g.i_roll)};
+  }
+
   template <class D>
   static typename D::AngVec eval(const Params& p, const ContactGeometry<D>& g,
                                  const NormalResultOf<D>& nr, State<D>& s) {
@@ -62,7 +80,7 @@ struct EpsdRolling {
     using std::sqrt;
     using R = typename D::Real;
     using AngVec = typename D::AngVec;
-    const R kr = p.factor * nr.kn * p.mu_r * p.mu_r * g.r_eff * g.r_eff;
+    const R kr = stiffness(p, nr.kn, g.r_eff);
     const R m_max = p.mu_r * g.r_eff * abs(nr.fn);
     // Increment, then the limit: fully mobilised, the spring is held at the limit and there is
     // no damping (001 eq. A15).
@@ -93,7 +111,7 @@ struct EpsdRolling {
       m = s.m_roll;
     }
     where_assign(!mobilised, m, [&]() -> AngVec {
-      const R cr = p.eta_r * 2.0 * sqrt(g.i_roll * kr);
+      const R cr = damping(p, kr, g.i_roll);
       return m - cr * g.omega_rel_damp;
     });
     return m;
@@ -102,7 +120,7 @@ struct EpsdRolling {
   template <class D>
   static double energy(const Params& p, const ContactGeometry<D>& g, const NormalResult& nr,
                        const State<D>& s) {
-    const double kr = p.factor * nr.kn * p.mu_r * p.mu_r * g.r_eff * g.r_eff;
+    const double kr = stiffness(p, nr.kn, g.r_eff);
     return kr > 0.0 ? 0.5 * squared_norm<D>(s) / kr : 0.0;
   }
   /// |M_k|^2 [N^2 m^2].

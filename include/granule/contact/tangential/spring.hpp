@@ -160,6 +160,14 @@ struct SpringTangential {
     }
   }
 
+  /// k_t and gamma_t, which act on the slip velocity at the contact point.
+  template <class D>
+  static SpringDashpot spring_dashpot(const Params& p, const ContactGeometry<D>& g, const NormalResult& nr) {
+    double gamma_t = 0.0;
+    const double kt = Stiffness::eval(p.stiffness, g, nr, gamma_t);
+    return {kt, gamma_t};
+  }
+
   template <class D>
   static typename D::Vec eval(const Params& p, const ContactGeometry<D>& g, const NormalResultOf<D>& nr,
                               State<D>& s) {
