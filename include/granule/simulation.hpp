@@ -510,10 +510,13 @@ class Simulation {
         add(i, ai, bi, li, bj, lj);
         if (is_wall == 0u) add(o, aj, bj, lj, bi, li);
       });
+      // The predicted-damping integrator hands the dashpots v + dt/2 F_old/m, which doubles
+      // their effective rate per step: a pure dashpot is stable for c dt <= 1 instead of 2.
+      constexpr double rate_factor = kPredictDamping ? 2.0 : 1.0;
       for (std::size_t i = 0; i < n; ++i) {
         if (!(k_sum[i] > 0.0)) continue;
         const double w = std::sqrt(k_sum[i]);
-        const double t = damped_oscillator_stability_limit(w, c_sum[i] / (2.0 * w));
+        const double t = damped_oscillator_stability_limit(w, rate_factor * c_sum[i] / (2.0 * w));
         if (t < out.limit) out = {t, i, count[i]};
       }
     }
