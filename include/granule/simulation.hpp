@@ -827,9 +827,9 @@ class Simulation {
         << "] s at step " << step_ << ": the rolling spring-dashpots of particle id " << p.id[r.particle]
         << " (" << r.contacts << " contacts, at (";
       for (int k = 0; k < D::dim; ++k) s << (k ? ", " : "") << p.x[r.particle][k];
-      s << ") m) are unstable above " << r.limit
-        << " s (rolling_stability_limit). Reduce dt or rolling_damping, or set "
-           "allow_large_time_step = true to override.";
+      s << ") m) are guaranteed stable only up to " << r.limit
+        << " s (rolling_stability_limit, a conservative bound). Reduce dt or rolling_damping, or set "
+           "check_rolling_stability = false (or allow_large_time_step = true) to override.";
       throw InvalidParameter(s.str());
     }
   }
