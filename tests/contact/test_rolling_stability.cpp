@@ -1,12 +1,16 @@
-// The time-step limit of the EPSD rolling spring-dashpot (Simulation::rolling_stability_limit):
-// its value for one contact against hand computation, that it is the step where the explicit
-// rolling dashpot turns unstable (decay just below, growth just above), and that the engine
-// refuses a larger step at the start and mid-run.
+// The rotational time-step limit under EPSD rolling (Simulation::rolling_stability_limit): its
+// value for one contact against hand computation, that the run is stable at it and unstable
+// well above it (2D, 3D, velocity Verlet and predicted damping), that the damped-oscillator
+// formula it rests on is sharp for a pure mode, and that the engine refuses a larger step at
+// the start and mid-run.
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "granule/granule.hpp"
 #include "granule/materials/time_step.hpp"
@@ -50,8 +54,9 @@ struct RestingParticle {
     Vec up = Vec::Zero();
     up[D::dim - 1] = 1.0;
     sim->add_wall(geometry::PlaneShape<D>(Vec::Zero(), up), wall);
-    // Start at the rest overlap of the Hertz law, m g = 4/3 E* sqrt(R*) delta^(3/2) (sphere on
-    // a plane: R* = r), so the particle neither bounces nor sinks.
+    // Start at the rest overlap of the 3D Hertz law, m g = 4/3 E* sqrt(R*) delta^(3/2) (sphere
+    // on a plane: R* = r), so the sphere neither bounces nor sinks (a 2D disk starts close to it
+    // and rings down through the normal damping).
     sim->add_particle(up * (kR + height), kR, mat);
     const double m_p = sim->particles().mass[0];
     const double e_eff = kE / (2.0 * (1.0 - kNu * kNu));
@@ -185,7 +190,9 @@ TEMPLATE_TEST_CASE("EPSD rotations are stable at the engine's limit, and the for
       const auto [peak_above, end_above] = spin_history<D>(*above.sim, axis, w0, 3000);
       INFO("eta_r " << eta << " axis " << axis << " limit " << limit << " s: at it peak " << peak_at << " end "
                     << end_at << "; at 2.5 x peak " << peak_above << " end " << end_above);
-      CHECK(peak_at <= 1.0);
+      // Undamped twisting (eta_r = 0) keeps its amplitude: the peak is w0 itself, so allow
+      // rounding; an unstable run grows by orders of magnitude.
+      CHECK(peak_at <= 1.01);
       if (eta > 0.0) CHECK(end_at < 1e-6);
       CHECK(peak_above > 10.0);
     }
