@@ -24,7 +24,7 @@ usage: ./granule.sh <command> [arguments]
   build [dir] [cmake args...]  configure (Release) and build in dir (default: build/)
   test [ctest args...]         deps + build in build/ + ctest --output-on-failure -j2
   test-sanitize [ctest args...]
-                               deps + build with ASan/UBSan (-O1 -g) in build-sanitize/ + ctest
+                               deps + build with ASan/UBSan (-O1 -g1) in build-sanitize/ + ctest
   run [example args...]        deps + build + run the main example ($MAIN_EXAMPLE) in out/<name>/
                                and draw its figures with its plot.py
   bench [benchmark args...]    deps + build with benchmarks and -march=native in build-bench/,
@@ -103,8 +103,10 @@ cmd_test() {
 
 cmd_test_sanitize() {
   cmd_deps
+  # -g1 (line tables only): the sanitizers' reports keep file and line, and the build is about a
+  # third faster than with -g (test_restitution.cpp: 160 s -> 107 s, objects 95 MB -> 35 MB).
   configure_and_build "$ROOT/build-sanitize" -DGRANULE_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug \
-    "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g" -DGRANULE_BUILD_EXAMPLES=OFF
+    "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" -DGRANULE_BUILD_EXAMPLES=OFF
   ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1}" \
   UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}" \
     ctest --test-dir "$ROOT/build-sanitize" --output-on-failure -j2 -E '^install_and_consume$' "$@"
