@@ -430,8 +430,9 @@ class Simulation {
     return e;
   }
 
-  /// Critical time of the scene [s]: the smallest Rayleigh time (Hertz laws) or linear collision
-  /// time (linear laws) over the particles present.
+  /// Critical time of the scene [s]: the smallest Rayleigh time (Hertz laws) or linear critical
+  /// time (linear laws: the collision time, or pi/2 x the damped pair's stability limit where
+  /// that is smaller; linear_critical_time) over the particles present.
   double critical_time_step() const {
     double tc = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < particles_.owned(); ++i) {
@@ -444,7 +445,8 @@ class Simulation {
           const PairMaterial& pm = materials_.pair(particles_.material[i], b);
           if (pm.k_n_linear <= 0.0) continue;
           // Two equal particles: m* = m/2; a wall: m* = m. The first is the stricter.
-          tc = std::min(tc, linear_collision_time(pm.k_n_linear, 0.5 * particles_.mass[i], pm.restitution));
+          tc = std::min(tc, linear_critical_time(pm.k_n_linear, 0.5 * particles_.mass[i], pm.restitution,
+                                                 kPredictDamping ? 2.0 : 1.0));
         }
       }
     }
@@ -806,8 +808,10 @@ class Simulation {
       s.precision(6);
       s << "SimulationConfig: dt = " << config_.dt << " s is outside the valid range (0, " << limit
         << "] s: it exceeds time_step_safety (" << config_.time_step_safety << ") x the critical time "
-        << tc << " s (" << (Model::NormalLaw::hertzian ? "Rayleigh time" : "linear collision time")
-        << " of the smallest particle). Reduce dt, or set allow_large_time_step = true to override.";
+        << tc << " s ("
+        << (Model::NormalLaw::hertzian ? "Rayleigh time of the smallest particle"
+                                       : "linear critical time of the lightest particle, linear_critical_time()")
+        << "). Reduce dt, or set allow_large_time_step = true to override.";
       throw InvalidParameter(s.str());
     }
   }

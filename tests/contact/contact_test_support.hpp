@@ -182,12 +182,15 @@ struct CollisionMeasure {
 /// onto a plane wall with normal "up" made of the same material (wall = true). No gravity.
 /// dt = t_ref / steps, with t_ref a reference contact time supplied by the caller. The contact
 /// starts at the exact time gap / v, gap = (3 + phase) v dt, i.e. at `phase` of the 4th step;
-/// its end is interpolated linearly on the overlap between two steps.
+/// its end is interpolated linearly on the overlap between two steps. `allow_large_time_step`
+/// passes a dt above the engine's limit (to show what such a step does).
 template <class D, class Model, class Integrator = integrators::VelocityVerlet>
 CollisionMeasure run_head_on(const Material& mat, double r, double v, bool wall, double t_ref,
-                             int steps, double thickness = 1.0, double phase = 0.3) {
+                             int steps, double thickness = 1.0, double phase = 0.3,
+                             bool allow_large_time_step = false) {
   using Vec = typename D::Vec;
   SimulationConfig<D> cfg;
+  cfg.allow_large_time_step = allow_large_time_step;
   cfg.domain.lo = Vec::Constant(-20.0 * r);
   cfg.domain.hi = Vec::Constant(20.0 * r);
   cfg.dt = t_ref / steps;
