@@ -98,7 +98,7 @@ TEMPLATE_TEST_CASE("Simulation critical and suggested time step", "[contact][tim
 // first-order error in e at this step is larger than 0.02: an accuracy matter, see the
 // speed-against-error curves in docs/performance.md.)
 // At 0.2 t_c, what the engine accepted before, the same collision at e = 0.01 leaves faster than
-// it came (0.97-2.1 x), and predicted damping at e = 0.1 leaves with 0.54-0.90 instead of 0.1:
+// it came (1.21-1.96 x measured), and predicted damping at e = 0.1 leaves with about 0.70 instead of 0.1:
 // the engine must refuse those steps.
 TEST_CASE("Linear critical time: the damped pair's stability limit", "[contact][time_step]") {
   const double k = 1.0e3, m_eff = 5.235988e-6;

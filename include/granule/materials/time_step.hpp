@@ -59,7 +59,7 @@ inline double damped_oscillator_stability_limit(double omega, double zeta) {
 /// (damped_oscillator_stability_limit) where that is smaller. Undamped the two agree (t_c = pi/w,
 /// limit 2/w), so a fixed fraction of this time keeps the same margin below the limit at every
 /// e. t_c alone does not: the dashpot lowers the limit while it lengthens t_c, and 0.2 t_c is
-/// above the limit for e < 0.02 (a head-on collision at 0.2 t_c, e = 0.01, leaves with 0.97-2.1
+/// above the limit for e < 0.02 (a head-on collision at 0.2 t_c, e = 0.01, leaves with 1.2-2.0
 /// times its impact speed). `damping_rate_factor` is 2 for integrators that hand the dashpots
 /// the predicted end-of-step velocity (integrators::VelocityVerletPredictedDamping): it doubles
 /// their rate per step.
