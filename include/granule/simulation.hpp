@@ -1307,8 +1307,8 @@ class Simulation {
     }
   }
 
-  // Copies touching pairs k, k+1, ... of the layer (entries `touching`, their rows `rows`) into
-  // the chunk until it is full or the material pair changes; returns the first pair not copied.
+  // Lists touching pairs k, k+1, ... of the layer (entries `touching`, their rows `rows`) in
+  // the chunk until it is full or the material pair changes; returns the first pair not listed.
   // (A local count and plain stores: with chunk.count incremented in memory GCC reloaded it for
   // every store.)
   template <class Chunk>
@@ -1325,27 +1325,6 @@ class Simulation {
       chunk.i[c] = i;
       chunk.j[c] = j;
       chunk.history[c] = kHasState ? list_.slot[e] : 0u;  // (no slots without history)
-      const Vec d = p.x[i] - p.x[j];
-      const Vec dv = p.v[i] - p.v[j];
-      const AngVec& wi = p.omega[i];
-      const AngVec& wj = p.omega[j];
-      double (&in)[Chunk::fields][Chunk::capacity] = chunk.in;
-      in[Chunk::dx][c] = d[0];
-      in[Chunk::dy][c] = d[1];
-      in[Chunk::dz][c] = d[2];
-      in[Chunk::dvx][c] = dv[0];
-      in[Chunk::dvy][c] = dv[1];
-      in[Chunk::dvz][c] = dv[2];
-      in[Chunk::wix][c] = wi[0];
-      in[Chunk::wiy][c] = wi[1];
-      in[Chunk::wiz][c] = wi[2];
-      in[Chunk::wjx][c] = wj[0];
-      in[Chunk::wjy][c] = wj[1];
-      in[Chunk::wjz][c] = wj[2];
-      in[Chunk::ri][c] = p.radius[i];
-      in[Chunk::rj][c] = p.radius[j];
-      in[Chunk::inv_mi][c] = p.inv_mass[i];
-      in[Chunk::inv_mj][c] = p.inv_mass[j];
     }
     chunk.count = c;
     chunk.params = prm;
@@ -1363,10 +1342,13 @@ class Simulation {
     const double dt = setup_evaluation_ ? 0.0 : config_.dt;
     const double max_ratio = config_.max_overlap_ratio;
     chunk.pad();
+    static_assert(sizeof(Vec) == 3 * sizeof(double) && sizeof(AngVec) == 3 * sizeof(double));
+    const contact::PackedParticles pp{p.x.data()->data(), p.v.data()->data(), p.omega.data()->data(),
+                                      p.radius.data(), p.inv_mass.data()};
     contact::ContactGeometry<LD> g;
     for (std::size_t k = 0; k < chunk.count; k += lane_width) {
       const std::size_t valid = std::min(lane_width, chunk.count - k);
-      chunk.template geometry<Model::needs_rolling_inertia, Model::needs_twist>(k, dt, g);
+      chunk.template geometry<Model::needs_rolling_inertia, Model::needs_twist>(k, pp, dt, g);
       const LaneMask deep = g.overlap > max_ratio * stdx::min(g.r_i, g.r_j);
       if (stdx::any_of(deep) && acc.bad_row == std::numeric_limits<std::size_t>::max()) {
         const std::size_t b = static_cast<std::size_t>(stdx::find_first_set(deep));

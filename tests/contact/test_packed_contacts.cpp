@@ -14,6 +14,7 @@
 #include <cstring>
 #include <cmath>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <granule/granule.hpp>
@@ -40,7 +41,7 @@ Vec random_unit(std::mt19937_64& rng) {
 /// Relative difference with a floor: |a - b| / max(|a|, |b|, scale).
 double rel(double a, double b, double scale) { return std::abs(a - b) / std::max({std::abs(a), std::abs(b), scale}); }
 
-/// A pair of spheres in contact, as the engine's pass 1 would copy it into a chunk.
+/// A pair of spheres in contact: centre distance, relative velocity, spins, radii, 1/m.
 struct PairInput {
   Vec d, dv, wi, wj;
   double ri, rj, inv_mi, inv_mj;
@@ -153,25 +154,28 @@ void check_packed_against_scalar(double dt, std::uint64_t seed) {
   auto chunk = std::make_unique<Chunk>();
   std::vector<PairInput> inputs;
   std::vector<StoredState<Model>> states;
+  // Particle arrays as the engine's store holds them: pair c is particle 2c (i, at x = d,
+  // moving at dv) against particle 2c + 1 (j, at rest at the origin), so x_i - x_j = d exactly.
+  std::vector<Vec> x, v, w;
+  std::vector<double> radius, inv_mass;
   const double r = 1e-3;
   for (std::size_t c = 0; c < Chunk::capacity - 3; ++c) {  // the last pack is padded
     const PairInput in = random_pair(rng, r, c % 3 == 0 ? 0.01 : 1.0);
     inputs.push_back(in);
     const auto g = scalar_geometry<Model>(in, dt);
     states.push_back(random_state<Model>(rng, g, prm, c % 5 == 0));
-    for (int q = 0; q < 3; ++q) {
-      chunk->in[Chunk::dx + q][c] = in.d[q];
-      chunk->in[Chunk::dvx + q][c] = in.dv[q];
-      chunk->in[Chunk::wix + q][c] = in.wi[q];
-      chunk->in[Chunk::wjx + q][c] = in.wj[q];
-    }
-    chunk->in[Chunk::ri][c] = in.ri;
-    chunk->in[Chunk::rj][c] = in.rj;
-    chunk->in[Chunk::inv_mi][c] = in.inv_mi;
-    chunk->in[Chunk::inv_mj][c] = in.inv_mj;
-    chunk->i[c] = chunk->j[c] = chunk->history[c] = static_cast<std::uint32_t>(c);
+    x.insert(x.end(), {in.d, Vec::Zero()});
+    v.insert(v.end(), {in.dv, Vec::Zero()});
+    w.insert(w.end(), {in.wi, in.wj});
+    radius.insert(radius.end(), {in.ri, in.rj});
+    inv_mass.insert(inv_mass.end(), {in.inv_mi, in.inv_mj});
+    chunk->i[c] = static_cast<std::uint32_t>(2 * c);
+    chunk->j[c] = static_cast<std::uint32_t>(2 * c + 1);
+    chunk->history[c] = static_cast<std::uint32_t>(c);
     ++chunk->count;
   }
+  const contact::PackedParticles particles{x.data()->data(), v.data()->data(), w.data()->data(),
+                                           radius.data(), inv_mass.data()};
   chunk->pad();
   std::vector<StoredState<Model>> packed_states = states;
   packed_states.resize(Chunk::capacity, StoredState<Model>{});
@@ -180,7 +184,7 @@ void check_packed_against_scalar(double dt, std::uint64_t seed) {
   for (std::size_t k = 0; k < chunk->count; k += W) {
     const std::size_t valid = std::min(W, chunk->count - k);
     contact::ContactGeometry<Dim3Lanes> g;
-    chunk->template geometry<Model::needs_rolling_inertia, Model::needs_twist>(k, dt, g);
+    chunk->template geometry<Model::needs_rolling_inertia, Model::needs_twist>(k, particles, dt, g);
     PackedState s{};
     StoredState<Model>* slots[W];
     for (std::size_t q = 0; q < W; ++q) slots[q] = &packed_states[chunk->history[k + q]];
@@ -298,6 +302,77 @@ ColumnResult run_column(bool packed, std::size_t steps) {
 }
 
 }  // namespace
+
+namespace {
+
+/// Records of N doubles, 0-terminated between each other by a sentinel double, read by the
+/// transposes in the lane order `order` (repeats allowed for reads) and written back.
+template <std::size_t N>
+void check_transposes(const std::vector<std::size_t>& order) {
+  const std::size_t stride = N + 1;  // one sentinel after every record
+  const std::size_t records = 2 * W + 1;
+  std::vector<double> data(records * stride);
+  for (std::size_t k = 0; k < data.size(); ++k) data[k] = 1000.0 + static_cast<double>(k);
+  const double* in[W];
+  for (std::size_t l = 0; l < W; ++l) in[l] = &data[order[l] * stride];
+  Lane lanes[N];
+  transpose_in<N>(in, lanes);
+  for (std::size_t k = 0; k < N; ++k)
+    for (std::size_t l = 0; l < W; ++l) {
+      INFO("N " << N << ", double " << k << ", lane " << l);
+      CHECK(lanes[k][l] == in[l][k]);
+    }
+  // Writing back: lanes first `valid` records only, the sentinels and the others untouched.
+  for (std::size_t valid = 1; valid <= W; ++valid) {
+    std::vector<double> out = data;
+    double* rec[W];
+    for (std::size_t l = 0; l < W; ++l) rec[l] = &out[(records - 1 - l) * stride];  // distinct, reversed
+    Lane values[N];
+    for (std::size_t k = 0; k < N; ++k)
+      for (std::size_t l = 0; l < W; ++l) values[k][l] = -1.0 - static_cast<double>(10 * k + l);
+    transpose_out<N>(values, rec, valid);
+    for (std::size_t q = 0; q < out.size(); ++q) {
+      const std::size_t record = q / stride, k = q % stride;
+      const std::size_t l = records - 1 - record;  // the lane that owns this record, if any
+      const bool written = k < N && l < valid;
+      INFO("N " << N << ", valid " << valid << ", record " << record << ", double " << k);
+      CHECK(out[q] == (written ? -1.0 - static_cast<double>(10 * k + l) : data[q]));
+    }
+  }
+}
+
+template <std::size_t... Ns>
+void check_transposes_all(const std::vector<std::size_t>& order, std::index_sequence<Ns...>) {
+  (check_transposes<Ns + 1>(order), ...);
+}
+
+}  // namespace
+
+TEST_CASE("Lane transposes move each record's doubles to its own lane", "[contact][packed]") {
+  // core/lane_transpose.hpp: with AVX-512 or AVX2 (a -march=native build, granule_native_tests)
+  // in registers, block by block of four doubles with masks for the rest; otherwise through a
+  // buffer. Records of 1-9 doubles cover full blocks, partial ones and two blocks (histories of
+  // 4 and 8 doubles, 3-vectors).
+  INFO("lane width " << W << (detail::kTransposeInRegisters ? " (in registers)" : " (through a buffer)"));
+  std::vector<std::size_t> reversed(W), repeated(W), spread(W);
+  for (std::size_t l = 0; l < W; ++l) {
+    reversed[l] = W - 1 - l;
+    repeated[l] = l / 2;
+    spread[l] = (5 * l + 3) % (2 * W + 1);
+  }
+  for (const auto& order : {reversed, repeated, spread}) check_transposes_all(order, std::make_index_sequence<9>{});
+  // The 3-vector helper reads x, y, z of a store's array of vectors, including its last element.
+  std::vector<Vec> x(W + 3);
+  for (std::size_t k = 0; k < x.size(); ++k) x[k] = Vec(1.0 * k, 100.0 + k, 200.0 + k);
+  std::uint32_t idx[W];
+  for (std::size_t l = 0; l < W; ++l) idx[l] = static_cast<std::uint32_t>(x.size() - 1 - 2 * (l % 2) - l / 2);
+  const LaneVec3 g = gather_vec3_lanes(x.data()->data(), idx);
+  for (std::size_t l = 0; l < W; ++l) {
+    CHECK(g.x[l] == x[idx[l]][0]);
+    CHECK(g.y[l] == x[idx[l]][1]);
+    CHECK(g.z[l] == x[idx[l]][2]);
+  }
+}
 
 TEMPLATE_TEST_CASE("Packed contact evaluation equals the one-at-a-time evaluation", "[contact][packed]",
                    contact::LinearFrictionless, contact::HertzFrictionless, contact::HertzMindlin,

@@ -3,11 +3,11 @@
 //
 // The engine's packed pair loop (Simulation, docs/architecture.md "Packed contacts") runs in
 // three passes over a cell layer:
-//   1. scalar: test every list entry of the layer for touch (no square root, no branch); copy
-//      what the law needs of the touching pairs into a chunk, one array per quantity (struct
-//      of arrays), 64 pairs at a time;
-//   2. packed: build ContactGeometry<Dim3Lanes> for W contacts at a time, gather their
-//      histories, evaluate the model, scatter the histories back;
+//   1. scalar: test every list entry of the layer for touch (no square root, no branch); list
+//      the touching pairs (particle slots and history slot) in a chunk, 64 pairs at a time;
+//   2. packed: read the particle data of W contacts at a time straight from the particle
+//      arrays into packs (core/lane_transpose.hpp), build ContactGeometry<Dim3Lanes>, read
+//      their histories the same way, evaluate the model, write the histories back;
 //   3. scalar: add the forces and torques to both particles, in the order of the entries
 //      (a row's partners, and a particle's rows, may repeat within a pack).
 // Only the pass-2 arithmetic is new code; the laws are the same templates as for one contact.
@@ -17,6 +17,7 @@
 #include <type_traits>
 
 #include "granule/contact/geometry.hpp"
+#include "granule/core/lane_transpose.hpp"
 #include "granule/core/lanes.hpp"
 
 namespace granule::contact {
@@ -34,34 +35,40 @@ struct PackedState {
                 "the packed history must widen every double of the stored one to a pack");
 
   static void load(Packed& out, const Stored* const* in) {
-    alignas(Lane) double lanes[doubles][lane_width];
-    for (std::size_t l = 0; l < lane_width; ++l) {
-      double v[doubles];
-      std::memcpy(v, in[l], sizeof(Stored));
-      for (std::size_t k = 0; k < doubles; ++k) lanes[k][l] = v[k];
-    }
+    const double* rec[lane_width];
+    for (std::size_t l = 0; l < lane_width; ++l) rec[l] = reinterpret_cast<const double*>(in[l]);
+    Lane lanes[doubles];
+    transpose_in<doubles>(rec, lanes);
     std::memcpy(static_cast<void*>(&out), lanes, sizeof(Packed));
   }
   /// Writes back the first `valid` lanes.
   static void store(const Packed& in, Stored* const* out, std::size_t valid) {
-    alignas(Lane) double lanes[doubles][lane_width];
+    double* rec[lane_width];
+    for (std::size_t l = 0; l < lane_width; ++l) rec[l] = reinterpret_cast<double*>(out[l]);
+    Lane lanes[doubles];
     std::memcpy(lanes, static_cast<const void*>(&in), sizeof(Packed));
-    for (std::size_t l = 0; l < valid; ++l) {
-      double v[doubles];
-      for (std::size_t k = 0; k < doubles; ++k) v[k] = lanes[k][l];
-      std::memcpy(static_cast<void*>(out[l]), v, sizeof(Stored));
-    }
+    transpose_out<doubles>(lanes, rec, valid);
   }
 };
 
-/// One chunk of touching pairs, struct of arrays. Capacity: a multiple of the lane width.
+/// What the packed geometry reads of the particles: pointers to the store's arrays (3D vectors
+/// as 3 consecutive doubles each, indexed by particle slot, ghosts included).
+struct PackedParticles {
+  const double* x;
+  const double* v;
+  const double* omega;
+  const double* radius;
+  const double* inv_mass;
+};
+
+/// One chunk of touching pairs: their particle slots and history slots, and the results.
+/// Capacity: a multiple of the lane width.
 template <std::size_t Capacity>
 struct PairChunk {
   static_assert(Capacity % lane_width == 0);
   static constexpr std::size_t capacity = Capacity;
-  // Inputs, copied in pass 1.
-  enum Field { dx, dy, dz, ri, rj, inv_mi, inv_mj, dvx, dvy, dvz, wix, wiy, wiz, wjx, wjy, wjz, fields };
-  alignas(64) double in[fields][Capacity];
+  // Inputs, listed in pass 1. (Until 2026-12-03 pass 1 also copied 16 doubles of particle data
+  // per pair into the chunk; pass 2 now reads them from the particle arrays itself.)
   std::uint32_t i[Capacity], j[Capacity];
   std::uint32_t history[Capacity];  ///< history slot of each contact (PairList::slot)
   // Outputs of pass 2: force on i, torques on i and j.
@@ -77,15 +84,12 @@ struct PairChunk {
   void pad() {
     const std::size_t end = (count + lane_width - 1) / lane_width * lane_width;
     for (std::size_t c = count; c < end; ++c) {
-      for (std::size_t f = 0; f < fields; ++f) in[f][c] = in[f][count - 1];
       i[c] = i[count - 1];
       j[c] = j[count - 1];
       history[c] = history[count - 1];
     }
   }
 
-  Lane load(Field f, std::size_t k) const { return Lane(&in[f][k], stdx::vector_aligned); }
-  LaneVec3 load3(Field f, std::size_t k) const { return {load(f, k), load(Field(f + 1), k), load(Field(f + 2), k)}; }
   void store(Out o, std::size_t k, const Lane& v) { v.copy_to(&out[o][k], stdx::vector_aligned); }
   void store3(Out o, std::size_t k, const LaneVec3& v) {
     store(o, k, v.x);
@@ -96,10 +100,12 @@ struct PairChunk {
   /// Geometry of the W contacts starting at k (as Simulation::pair_geometry for one contact).
   /// `RollingInertia` and `Twist` say whether the model needs i_roll and the twist angle.
   template <bool RollingInertia, bool Twist>
-  void geometry(std::size_t k, double dt, ContactGeometry<Dim3Lanes>& g) const {
+  void geometry(std::size_t k, const PackedParticles& p, double dt, ContactGeometry<Dim3Lanes>& g) const {
     using std::sqrt;
-    const LaneVec3 d = load3(dx, k);
-    const Lane r_i = load(ri, k), r_j = load(rj, k);
+    const std::uint32_t* const ik = &i[k];
+    const std::uint32_t* const jk = &j[k];
+    const LaneVec3 d = gather_vec3_lanes(p.x, ik) - gather_vec3_lanes(p.x, jk);
+    const Lane r_i = gather_lanes(p.radius, ik), r_j = gather_lanes(p.radius, jk);
     const Lane rs = r_i + r_j;
     const Lane dist = sqrt(d.squaredNorm());
     const LaneMask apart = dist > 0.0;
@@ -113,10 +119,11 @@ struct PairChunk {
     g.arm_i = r_i - 0.5 * g.overlap;
     g.arm_j = r_j - 0.5 * g.overlap;
     g.r_eff = r_i * r_j / rs;
-    const Lane im_i = load(inv_mi, k), im_j = load(inv_mj, k);
+    const Lane im_i = gather_lanes(p.inv_mass, ik), im_j = gather_lanes(p.inv_mass, jk);
     g.m_eff = 1.0 / (im_i + im_j);
-    const LaneVec3 w_i = load3(wix, k), w_j = load3(wjx, k);
-    g.v_rel = load3(dvx, k) - (g.arm_i * w_i.cross(g.n) + g.arm_j * w_j.cross(g.n));
+    const LaneVec3 w_i = gather_vec3_lanes(p.omega, ik), w_j = gather_vec3_lanes(p.omega, jk);
+    const LaneVec3 dv = gather_vec3_lanes(p.v, ik) - gather_vec3_lanes(p.v, jk);
+    g.v_rel = dv - (g.arm_i * w_i.cross(g.n) + g.arm_j * w_j.cross(g.n));
     g.vn = g.v_rel.dot(g.n);
     g.vt = g.v_rel - g.vn * g.n;
     g.omega_rel = w_i - w_j;
