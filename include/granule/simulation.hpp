@@ -302,8 +302,13 @@ class Simulation {
     const double lim = list_.rebuild_distance(skin_used_), lim2 = lim * lim;
     const bool test_moves = !Search::rebuild_every_step && list_.x_at_build.size() == n;
     int moved = 0;
-#pragma omp parallel for schedule(static) reduction(| : moved) if (parallel_)
+    // The range of particle materials: with one material the packed loop need not look up
+    // each pair's (ghosts carry their owners' material).
+    std::uint32_t mat_lo = std::numeric_limits<std::uint32_t>::max(), mat_hi = 0;
+#pragma omp parallel for schedule(static) reduction(| : moved) reduction(min : mat_lo) reduction(max : mat_hi) if (parallel_)
     for (std::size_t i = 0; i < n; ++i) {
+      mat_lo = std::min(mat_lo, p.material[i]);
+      mat_hi = std::max(mat_hi, p.material[i]);
       switch (p.motion[i]) {
         case Motion::Free:
           p.v[i] += kick1 * p.inv_mass[i] * p.f[i];
@@ -332,7 +337,15 @@ class Simulation {
     } else {
       refresh_ghosts();
     }
-    compute_forces(record, /*owned_reset=*/reset_here, /*check_finite=*/false);
+    {
+      // (Cleared on the way out, also by an exception: other evaluations do not know.)
+      struct Clear {
+        bool& flag;
+        ~Clear() { flag = false; }
+      } clear{one_material_};
+      one_material_ = n > 0 && mat_lo == mat_hi;
+      compute_forces(record, /*owned_reset=*/reset_here, /*check_finite=*/false);
+    }
     update_group_velocities(time_);
     // Second kick, with compute_forces' finiteness test: a particle that fails it keeps its
     // velocity and stops the run below.
@@ -882,9 +895,18 @@ class Simulation {
     }
   }
 
+  // One comparison for all components: c - c is 0 for a finite c and NaN otherwise, and a sum
+  // with a NaN is NaN. (Four allFinite() calls were a compare and branch each.)
   bool finite_state(std::size_t i) const {
     const auto& p = particles_;
-    return p.f[i].allFinite() && D::all_finite(p.torque[i]) && p.x[i].allFinite() && p.v[i].allFinite();
+    const auto zeros = [](const auto& a) { return (a - a).sum(); };
+    double s = zeros(p.f[i]) + zeros(p.x[i]) + zeros(p.v[i]);
+    if constexpr (D::dim == 3) {
+      s += zeros(p.torque[i]);
+    } else {
+      s += p.torque[i] - p.torque[i];
+    }
+    return s == 0.0;
   }
 
   [[noreturn]] void throw_instability(std::size_t i, const std::string& why) const {
@@ -1318,13 +1340,23 @@ class Simulation {
     const std::size_t nm = materials_.size();
     const std::size_t prm = p.material[rows[k]] * nm + p.material[list_.nbr[touching[k]]];
     std::size_t c = 0;
-    for (; k < nt && c < Chunk::capacity; ++k, ++c) {
-      const std::uint32_t e = touching[k], j = list_.nbr[e];
-      const std::uint32_t i = rows[k];
-      if (p.material[i] * nm + p.material[j] != prm) break;
-      chunk.i[c] = i;
-      chunk.j[c] = j;
-      chunk.history[c] = kHasState ? list_.slot[e] : 0u;  // (no slots without history)
+    // With one particle material (step() knows) no pair's material need be read.
+    const auto list = [&](auto check_material) {
+      for (; k < nt && c < Chunk::capacity; ++k, ++c) {
+        const std::uint32_t e = touching[k], j = list_.nbr[e];
+        const std::uint32_t i = rows[k];
+        if constexpr (decltype(check_material)::value) {
+          if (p.material[i] * nm + p.material[j] != prm) break;
+        }
+        chunk.i[c] = i;
+        chunk.j[c] = j;
+        chunk.history[c] = kHasState ? list_.slot[e] : 0u;  // (no slots without history)
+      }
+    };
+    if (one_material_) {
+      list(std::false_type{});
+    } else {
+      list(std::true_type{});
     }
     chunk.count = c;
     chunk.params = prm;
@@ -1429,6 +1461,7 @@ class Simulation {
   bool initialised_ = false;
   bool forces_ready_ = false;
   bool setup_evaluation_ = false;  ///< the set-up force evaluation runs: contacts see dt = 0
+  bool one_material_ = false;      ///< all particles share one material (set by step() for its pair loop)
   bool parallel_ = false;
 };
 
