@@ -1,6 +1,7 @@
 // Machine ceilings for the roofline estimate in docs/performance.md: clock rate, scalar and
 // AVX-512 FMA throughput, scalar sqrt and division throughput, and a STREAM-like triad bandwidth.
-// Nothing of granule is timed here; these numbers put the contact-kernel timings in proportion.
+// Apart from gather/transpose_vec3 nothing of granule is timed here; these numbers put the
+// contact-kernel timings in proportion.
 //
 //   clock/dependent_add     a chain of dependent integer adds (1 cycle each on x86-64 cores
 //                           since the Pentium Pro): items_per_second = core clock [Hz]
@@ -17,8 +18,15 @@
 //                           480 KB array of 3-vectors (the partner data of a packed pair loop
 //                           in a layer's working set); items = gathered doubles/s
 //   gather/scalar_copy      the same doubles loaded one at a time and stored into a chunk, as
-//                           the packed pair loop does (Simulation::fill_chunk)
+//                           the packed pair loop did until 2026-12-03 (and still does for radii
+//                           and inverse masses)
+//   gather/transpose_vec3   all 3 doubles of each 3-vector into packs by masked loads and
+//                           transposes (core/lane_transpose.hpp, what the packed pair loop does
+//                           now); items = doubles/s. Through a buffer where the build has
+//                           neither AVX2 nor AVX-512.
 #include <benchmark/benchmark.h>
+
+#include <granule/core/lane_transpose.hpp>
 
 #include <cstdint>
 #include <vector>
@@ -208,6 +216,20 @@ void bm_scalar_copy(benchmark::State& st) {
   st.SetItemsProcessed(st.iterations() * static_cast<std::int64_t>(2 * d.idx.size()));
 }
 
+void bm_transpose_vec3(benchmark::State& st) {
+  const GatherData d;
+  std::vector<std::uint32_t> particle(d.idx.size());
+  for (std::size_t q = 0; q < d.idx.size(); ++q) particle[q] = static_cast<std::uint32_t>(d.idx[q] / 3);
+  granule::LaneVec3 s{granule::Lane(0.0), granule::Lane(0.0), granule::Lane(0.0)};
+  for (auto _ : st) {
+    for (std::size_t q = 0; q + granule::lane_width <= particle.size(); q += granule::lane_width)
+      s += granule::gather_vec3_lanes(d.a.data(), &particle[q]);
+  }
+  benchmark::DoNotOptimize(s.x[0] + s.y[0] + s.z[0]);
+  st.SetItemsProcessed(st.iterations() * static_cast<std::int64_t>(3 * particle.size()));
+  st.counters["lanes"] = static_cast<double>(granule::lane_width);
+}
+
 BENCHMARK(bm_dependent_add)->Name("clock/dependent_add");
 #if defined(__x86_64__)
 BENCHMARK(bm_scalar_fma)->Name("flops/scalar_fma");
@@ -219,6 +241,7 @@ BENCHMARK(bm_avx512_fma)->Name("flops/avx512_fma");
 BENCHMARK(bm_avx512_gather)->Name("gather/avx512_gather");
 #endif
 BENCHMARK(bm_scalar_copy)->Name("gather/scalar_copy");
+BENCHMARK(bm_transpose_vec3)->Name("gather/transpose_vec3");
 // One thread: CPU time (robust to other load on the machine); two threads: wall time.
 BENCHMARK(bm_triad)->Name("stream/triad")->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(bm_triad)->Name("stream/triad")->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
