@@ -1269,9 +1269,9 @@ class Simulation {
   // (which pair touches is unpredictable: a third do not) and moves history slots (a pair that
   // starts touching takes one, one that separates gives it back); then the touching pairs go
   // through chunks. A chunk holds pairs of one parameter set: a change of material pair flushes
-  // it. (Copying every entry into the chunk in pass 1, so that only the count depends on the
-  // touch, saves re-reading the partner but was 5-12 % slower: the copy is bound by its stores,
-  // and a third of them would be for separated pairs. docs/performance.md)
+  // it; the packs read the particles' data from the store themselves (core/lane_transpose.hpp).
+  // (When the chunk still held copies of that data, copying every entry in pass 1, so that only
+  // the count depended on the touch, was 5-12 % slower: the copy was bound by its stores.)
   GRANULE_FLATTEN void process_layer_packed(std::size_t l) {
     if constexpr (kPackable) {
       using Chunk = contact::PairChunk<64>;
