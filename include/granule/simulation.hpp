@@ -1064,10 +1064,15 @@ class Simulation {
       a.records.clear();
     }
     const bool parallel = Search::uses_cells;
-    // Three colours: layers l and l + 3 never touch the same particle or ghost.
+    // Three colours: layers l and l + 3 never touch the same particle or ghost. Each thread
+    // takes one contiguous range of a colour's layers (static schedule), so that it works on
+    // the same particles in every colour and in the kick passes (particles are sorted by
+    // layer): with layers handed out one at a time (dynamic) the particles' cache lines moved
+    // between the cores at every phase, and two threads ran 1.1-1.4x one thread on a VM whose
+    // cores are far apart (docs/performance.md, "Two threads").
     for (std::size_t colour = 0; colour < 3; ++colour) {
       const std::size_t count = nl > colour ? (nl - colour + 2) / 3 : 0;
-#pragma omp parallel for schedule(dynamic, 1) if (parallel && parallel_)
+#pragma omp parallel for schedule(static) if (parallel && parallel_)
       for (std::size_t t = 0; t < count; ++t) {
         const std::size_t l = colour + 3 * t;
         if (record) {
