@@ -263,8 +263,10 @@ constexpr double kR = 1.0e-3;  // [m]
 
 /// ~1000 spheres (radii 0.8-1.2 kR) on a jittered lattice 2.1 kR apart, random velocities up to
 /// 0.3 m/s, gravity, walls on every face; `steps` steps of 1e-5 s.
+/// `two_materials`: every other sphere of a second, stiffer material, so that chunks mix
+/// material pairs and flush on every change (with one material they never do).
 template <class Model>
-ColumnResult run_column(bool packed, std::size_t steps) {
+ColumnResult run_column(bool packed, std::size_t steps, bool two_materials = false) {
   SimulationConfig<Dim3> cfg;
   const Vec len(8 * 2.1e-3, 8 * 2.1e-3, 16 * 2.1e-3);
   cfg.domain.lo = Vec::Zero();
@@ -278,6 +280,7 @@ ColumnResult run_column(bool packed, std::size_t steps) {
   Simulation<Dim3, Model> sim(cfg);
   const Material m = test_material(1e7, 0.3, 2e4);
   const auto mat = sim.add_material(m);
+  const auto mat2 = two_materials ? sim.add_material(test_material(1.5e7, 0.3, 2e4)) : mat;
   const auto wmat = sim.add_wall_material(m);
   for (int k = 0; k < 3; ++k) {
     sim.add_wall(geometry::PlaneShape<Dim3>(Vec::Zero(), Vec::Unit(k)), wmat);
@@ -290,7 +293,8 @@ ColumnResult run_column(bool packed, std::size_t steps) {
         Vec x = (Vec(a, b, c) + Vec::Constant(0.5)) * 2.1e-3;
         for (int q = 0; q < 3; ++q) x[q] += uniform(rng, -0.03, 0.03) * kR;
         const double r = uniform(rng, 0.8, 1.2) * kR;
-        sim.add_particle(x, r, mat, Vec(uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3)));
+        sim.add_particle(x, r, (a + b + c) % 2 == 0 ? mat : mat2,
+                         Vec(uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3)));
       }
   sim.run(steps);
   ColumnResult out;
@@ -397,10 +401,13 @@ TEMPLATE_TEST_CASE("A packed run follows the one-at-a-time run", "[contact][pack
                    contact::HertzMindlin, contact::HertzMindlinEpsdSjkr) {
   // A 3D column of ~1000 polydisperse spheres with random velocities under gravity, between
   // walls: the whole packed path (touch sorting, chunks with padding, history gather/scatter,
-  // run-length force scatter) against the scalar loop. The trajectories separate only by
+  // force scatter) against the scalar loop, with one particle material and with
+  // two (chunks flushed at every change of material pair). The trajectories separate only by
   // amplified rounding over 150 steps.
-  const auto one = run_column<TestType>(false, 150);
-  const auto packed = run_column<TestType>(true, 150);
+  const bool two_materials = GENERATE(false, true);
+  INFO((two_materials ? "two particle materials" : "one particle material"));
+  const auto one = run_column<TestType>(false, 150, two_materials);
+  const auto packed = run_column<TestType>(true, 150, two_materials);
   REQUIRE(one.contacts > 600);
   CHECK(packed.contacts == one.contacts);
   double dx = 0.0, dv = 0.0, vmax = 0.0;
