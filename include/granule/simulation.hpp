@@ -31,6 +31,7 @@
 #include "granule/boundaries/wall.hpp"
 #include "granule/contact/model.hpp"
 #include "granule/contact/packed.hpp"
+#include "granule/contact/touch_scan.hpp"
 #include "granule/core/dimension.hpp"
 #include "granule/core/error.hpp"
 #include "granule/integrators/predicted_damping.hpp"
@@ -1289,35 +1290,24 @@ class Simulation {
 #else
       PairWork& work = pair_work_[0];
 #endif
-      work.entries.resize(entries);
-      work.rows.resize(entries);
+      // (8 entries of room for the packed scan's full-width stores.)
+      work.entries.resize(entries + 8);
+      work.rows.resize(entries + 8);
       std::uint32_t* const sorted = work.entries.data();
       std::uint32_t* const rows = work.rows.data();
-      // Every entry is written at the count, which only a touching one advances.
-      std::size_t nt = 0;
-      for (std::size_t i = r0; i < r1; ++i) {
-        const Vec xi = p.x[i];
-        const double ri = p.radius[i];
-        for (std::uint32_t e = list_.row_begin[i]; e < list_.row_begin[i + 1]; ++e) {
-          const std::uint32_t j = list_.nbr[e];
-          const double rs = ri + p.radius[j];
-          const bool touch = (xi - p.x[j]).squaredNorm() < rs * rs;
-          // Slots move only where the touch changed since the last step: a predictable branch.
-          // (Slots are taken and given back in entry order, so they do not depend on threads.)
-          if constexpr (kHasState) {
-            if (touch == (list_.slot[e] == List::kNone)) {
-              if (touch) {
-                list_.acquire(l, e);
-              } else {
-                list_.drop(l, e);
-              }
-            }
-          }
-          sorted[nt] = e;
-          rows[nt] = static_cast<std::uint32_t>(i);
-          nt += touch;
-        }
-      }
+      const contact::TouchScanInput scan{p.x.data()->data(), p.radius.data(), list_.row_begin.data(),
+                                         list_.nbr.data(), kHasState ? list_.slot.data() : nullptr, List::kNone};
+      // (Slots are taken and given back in entry order, so they do not depend on threads.)
+      const std::size_t nt = contact::scan_rows(scan, static_cast<std::uint32_t>(r0), static_cast<std::uint32_t>(r1),
+                                                sorted, rows, [&](std::uint32_t e, bool touch) {
+                                                  if constexpr (kHasState) {
+                                                    if (touch) {
+                                                      list_.acquire(l, e);
+                                                    } else {
+                                                      list_.drop(l, e);
+                                                    }
+                                                  }
+                                                });
       Chunk chunk;
       for (std::size_t k = 0; k < nt;) {
         k = fill_chunk(chunk, sorted, rows, k, nt);

@@ -378,6 +378,83 @@ TEST_CASE("Lane transposes move each record's doubles to its own lane", "[contac
   }
 }
 
+TEST_CASE("The touch scan lists a layer's touching entries and moves slots in entry order", "[contact][packed]") {
+  // contact/touch_scan.hpp: with AVX-512 (granule_native_tests) 8 entries at a time across the
+  // ends of rows; the reference is the one-at-a-time scan and, for the touches, the definition
+  // |x_i - x_j|^2 < (r_i + r_j)^2. Rows of 0 to 19 entries (empty ones, ones longer than a
+  // pack), layers starting and ending anywhere, and slots given to about half the entries, so
+  // that slots move both ways.
+  INFO("packed scan: " << (contact::kPackedTouchScan ? "yes" : "no"));
+  std::mt19937_64 rng(21);
+  const std::size_t n = 400;
+  std::vector<Vec> x(n);
+  std::vector<double> r(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    // A 3 mm cube and radii 0.5-1 mm: about half the entries touch.
+    x[k] = Vec(uniform(rng, 0.0, 3e-3), uniform(rng, 0.0, 3e-3), uniform(rng, 0.0, 3e-3));
+    r[k] = uniform(rng, 0.5e-3, 1e-3);
+  }
+  constexpr std::uint32_t none = 0xFFFFFFFFu;
+  std::vector<std::uint32_t> row_begin{0}, nbr, slot;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t len = rng() % 20;
+    for (std::size_t k = 0; k < len; ++k) {
+      nbr.push_back(static_cast<std::uint32_t>(rng() % n));
+      slot.push_back(rng() % 2 == 0 ? none : static_cast<std::uint32_t>(nbr.size()));
+    }
+    row_begin.push_back(static_cast<std::uint32_t>(nbr.size()));
+  }
+  using Calls = std::vector<std::pair<std::uint32_t, bool>>;
+  const auto scan = [&](bool packed, bool history, std::uint32_t r0, std::uint32_t r1, Calls& calls) {
+    const contact::TouchScanInput in{x.data()->data(), r.data(), row_begin.data(), nbr.data(),
+                                     history ? slot.data() : nullptr, none};
+    std::vector<std::uint32_t> touching(nbr.size() + 8), rows(nbr.size() + 8);
+    const auto move = [&](std::uint32_t e, bool touch) { calls.emplace_back(e, touch); };
+    const std::size_t nt = packed ? contact::scan_rows(in, r0, r1, touching.data(), rows.data(), move)
+                                  : contact::scan_rows_scalar(in, r0, r1, touching.data(), rows.data(), move);
+    touching.resize(nt);
+    rows.resize(nt);
+    return std::pair{touching, rows};
+  };
+  std::size_t listed = 0, taken = 0, given = 0;
+  const std::pair<std::uint32_t, std::uint32_t> layers[] = {{0, 400}, {0, 1}, {3, 4}, {7, 150}, {151, 152},
+                                                            {152, 389}, {390, 400}, {200, 200}};
+  for (const auto& [r0, r1] : layers) {
+    for (const bool history : {true, false}) {
+      INFO("rows " << r0 << " to " << r1 << (history ? ", with history slots" : ", without history"));
+      Calls calls_one, calls_packed;
+      const auto [touching, rows] = scan(false, history, r0, r1, calls_one);
+      const auto [touching_p, rows_p] = scan(true, history, r0, r1, calls_packed);
+      CHECK(touching_p == touching);
+      CHECK(rows_p == rows);
+      CHECK(calls_packed == calls_one);
+      // The reference against the definition.
+      std::vector<std::uint32_t> expected, expected_rows;
+      Calls expected_calls;
+      for (std::uint32_t i = r0; i < r1; ++i) {
+        for (std::uint32_t e = row_begin[i]; e < row_begin[i + 1]; ++e) {
+          const std::uint32_t j = nbr[e];
+          const bool touch = (x[i] - x[j]).squaredNorm() < (r[i] + r[j]) * (r[i] + r[j]);
+          if (touch) {
+            expected.push_back(e);
+            expected_rows.push_back(i);
+          }
+          if (history && touch == (slot[e] == none)) expected_calls.emplace_back(e, touch);
+        }
+      }
+      CHECK(touching == expected);
+      CHECK(rows == expected_rows);
+      CHECK(calls_one == expected_calls);
+      listed += touching.size();
+      for (const auto& c : calls_packed) (c.second ? taken : given) += 1;
+    }
+  }
+  // The scene is not trivial: many touches, and slots moving both ways.
+  CHECK(listed > 3000);
+  CHECK(taken > 500);
+  CHECK(given > 500);
+}
+
 TEMPLATE_TEST_CASE("Packed contact evaluation equals the one-at-a-time evaluation", "[contact][packed]",
                    contact::LinearFrictionless, contact::HertzFrictionless, contact::HertzMindlin,
                    contact::HertzMindlinEpsd, contact::HertzMindlinEpsdSjkr) {
