@@ -3,8 +3,9 @@
 //
 // The engine's packed pair loop (Simulation, docs/architecture.md "Packed contacts") runs in
 // three passes over a cell layer:
-//   1. scalar: test every list entry of the layer for touch (no square root, no branch); list
-//      the touching pairs (particle slots and history slot) in a chunk, 64 pairs at a time;
+//   1. test every list entry of the layer for touch (no square root, no branch; 8 entries at a
+//      time with AVX-512, contact/touch_scan.hpp); list the touching pairs (particle slots and
+//      history slot) in a chunk, 64 pairs at a time;
 //   2. packed: read the particle data of W contacts at a time straight from the particle
 //      arrays into packs (core/lane_transpose.hpp), build ContactGeometry<Dim3Lanes>, read
 //      their histories the same way, evaluate the model, write the histories back;
