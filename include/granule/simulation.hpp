@@ -1270,6 +1270,14 @@ class Simulation {
     }
   }
 
+  // The doubles of a vector of small vectors, for the packed passes' raw-pointer inputs; null when
+  // there are no particles (a scene of walls and bodies alone), where data()->data() would be a
+  // member access through a null pointer.
+  template <class V>
+  static const double* scalars(const std::vector<V>& v) {
+    return v.empty() ? nullptr : v.front().data();
+  }
+
   // process_layer<false> with the particle pairs evaluated W at a time (contact/packed.hpp);
   // the walls stay one at a time. Pass 1 lists the layer's touching entries without a branch
   // (which pair touches is unpredictable: a third do not) and moves history slots (a pair that
@@ -1295,7 +1303,7 @@ class Simulation {
       work.rows.resize(entries + 8);
       std::uint32_t* const sorted = work.entries.data();
       std::uint32_t* const rows = work.rows.data();
-      const contact::TouchScanInput scan{p.x.data()->data(), p.radius.data(), list_.row_begin.data(),
+      const contact::TouchScanInput scan{scalars(p.x), p.radius.data(), list_.row_begin.data(),
                                          list_.nbr.data(), kHasState ? list_.slot.data() : nullptr, List::kNone};
       // (Slots are taken and given back in entry order, so they do not depend on threads.)
       const std::size_t nt = contact::scan_rows(scan, static_cast<std::uint32_t>(r0), static_cast<std::uint32_t>(r1),
@@ -1370,7 +1378,7 @@ class Simulation {
     const double max_ratio = config_.max_overlap_ratio;
     chunk.pad();
     static_assert(sizeof(Vec) == 3 * sizeof(double) && sizeof(AngVec) == 3 * sizeof(double));
-    const contact::PackedParticles pp{p.x.data()->data(), p.v.data()->data(), p.omega.data()->data(),
+    const contact::PackedParticles pp{scalars(p.x), scalars(p.v), scalars(p.omega),
                                       p.radius.data(), p.inv_mass.data()};
     contact::ContactGeometry<LD> g;
     for (std::size_t k = 0; k < chunk.count; k += lane_width) {
