@@ -376,6 +376,16 @@ TEST_CASE("Lane transposes move each record's doubles to its own lane", "[contac
     CHECK(g.y[l] == x[idx[l]][1]);
     CHECK(g.z[l] == x[idx[l]][2]);
   }
+  // One double per lane (radii, 1/m), through a buffer and (with AVX-512) by loads into halves
+  // and quarters of the pack.
+  std::vector<double> s(x.size());
+  for (std::size_t k = 0; k < s.size(); ++k) s[k] = 0.5 + static_cast<double>(k);
+  const Lane by_buffer = gather_lanes<GatherBy::buffer>(s.data(), idx);
+  const Lane by_registers = gather_lanes<GatherBy::registers>(s.data(), idx);
+  for (std::size_t l = 0; l < W; ++l) {
+    CHECK(by_buffer[l] == s[idx[l]]);
+    CHECK(by_registers[l] == s[idx[l]]);
+  }
 }
 
 TEST_CASE("The touch scan lists a layer's touching entries and moves slots in entry order", "[contact][packed]") {

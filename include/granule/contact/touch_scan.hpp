@@ -65,19 +65,6 @@ inline constexpr bool kPackedTouchScan = lane_width == 8;
 inline constexpr bool kPackedTouchScan = false;
 #endif
 
-#if defined(__AVX512F__) && defined(__AVX512VL__)
-namespace detail {
-// Lane l = base[idx[l]], by scalar loads into halves and quarters of the pack. (The AVX-512
-// gather instruction took 7 % of the pair loop here; a buffer stalled the pack's load on the
-// 8 scalar stores.)
-inline Lane load_lanes(const double* base, const std::uint32_t* idx) {
-  const auto two = [&](int l) { return _mm_loadh_pd(_mm_load_sd(base + idx[l]), base + idx[l + 1]); };
-  const __m256d lo = _mm256_set_m128d(two(2), two(0)), hi = _mm256_set_m128d(two(6), two(4));
-  return Lane(granule::detail::pair(lo, hi));
-}
-}  // namespace detail
-#endif
-
 /// As scan_rows_scalar, 8 entries at a time where the machine has AVX-512. `touching` and
 /// `rows` need room for all entries of the rows plus 8.
 template <class MoveSlot>
@@ -122,7 +109,8 @@ inline std::size_t scan_rows(const TouchScanInput& in, std::uint32_t r0, std::ui
       Lane xi[3], xj[3];
       transpose_in<3>(rec_i, xi);
       transpose_in<3>(rec_j, xj);
-      const Lane rs = detail::load_lanes(in.radius, ip) + detail::load_lanes(in.radius, jp);
+      const Lane rs =
+          gather_lanes<GatherBy::registers>(in.radius, ip) + gather_lanes<GatherBy::registers>(in.radius, jp);
       const __m256i iv = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ip));
       const Lane dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
       const Lane d2 = dx * dx + (dy * dy + dz * dz);

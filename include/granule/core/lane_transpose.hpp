@@ -169,9 +169,29 @@ inline void transpose_out(const Lane* in, double* const* rec, std::size_t valid)
   detail::transpose_out_copy<N>(in, rec, valid);
 }
 
-/// Lane l = base[idx[l]]: one double per record (radii, inverse masses), through a buffer
-/// (an AVX-512 gather was slower than the scalar copy on the machines measured).
+/// How gather_lanes fills a pack. The AVX-512 gather instruction was slower than both (7 % of
+/// the touch scan; see also bench_machine's gather/*).
+enum class GatherBy {
+  /// 8 scalar stores and one vector load. The geometry pass of the packed pair loop was 1-2.5 %
+  /// faster this way on scene B (twice measured, performance.md "Gathers of one double"),
+  /// probably because it has fewer shuffle micro-ops beside the transposes' and the law's
+  /// arithmetic hides the load's wait on the stores.
+  buffer,
+  /// With AVX-512, scalar loads straight into halves and quarters of the pack (other builds: as
+  /// buffer). The touch scan compares at once and has nothing to hide the wait behind.
+  registers,
+};
+
+/// Lane l = base[idx[l]]: one double per record (radii, inverse masses).
+template <GatherBy By = GatherBy::buffer>
 inline Lane gather_lanes(const double* base, const std::uint32_t* idx) {
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+  if constexpr (By == GatherBy::registers && detail::kTransposeInRegisters) {
+    const auto two = [&](int l) { return _mm_loadh_pd(_mm_load_sd(base + idx[l]), base + idx[l + 1]); };
+    const __m256d lo = _mm256_set_m128d(two(2), two(0)), hi = _mm256_set_m128d(two(6), two(4));
+    return Lane(detail::pair(lo, hi));
+  }
+#endif
   alignas(Lane) double lanes[lane_width];
   for (std::size_t l = 0; l < lane_width; ++l) lanes[l] = base[idx[l]];
   return Lane(lanes, stdx::vector_aligned);
