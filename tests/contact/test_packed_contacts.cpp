@@ -257,6 +257,7 @@ void check_packed_against_scalar(double dt, std::uint64_t seed) {
 struct ColumnResult {
   std::vector<Vec> x, v;
   std::size_t contacts = 0;
+  Vec lid_force = Vec::Zero(), lid_torque = Vec::Zero();  ///< on the moving lid, last step [N], [N m]
 };
 
 constexpr double kR = 1.0e-3;  // [m]
@@ -282,10 +283,20 @@ ColumnResult run_column(bool packed, std::size_t steps, bool two_materials = fal
   const auto mat = sim.add_material(m);
   const auto mat2 = two_materials ? sim.add_material(test_material(1.5e7, 0.3, 2e4)) : mat;
   const auto wmat = sim.add_wall_material(m);
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < 2; ++k) {
     sim.add_wall(geometry::PlaneShape<Dim3>(Vec::Zero(), Vec::Unit(k)), wmat);
     sim.add_wall(geometry::PlaneShape<Dim3>(len, Vec(-Vec::Unit(k))), wmat);
   }
+  sim.add_wall(geometry::PlaneShape<Dim3>(Vec::Zero(), Vec::UnitZ()), wmat);
+  // The lid is a body that sinks and spins about the column's axis: wall velocities at the
+  // contact points, and the force and torque on a body, go through the packed path too.
+  Body<Dim3> lid;
+  lid.name = "lid";
+  lid.pose = geometry::Pose<Dim3>::translation(Vec(0.5 * len.x(), 0.5 * len.y(), len.z()));
+  lid.velocity = [](double) { return Vec(0.0, 0.0, -0.05); };       // [m/s]
+  lid.angular_velocity = [](double) { return Vec(0.0, 0.0, 20.0); };  // [rad/s]
+  const std::uint32_t lid_id = sim.add_body(lid);
+  sim.add_wall(geometry::PlaneShape<Dim3>(Vec::Zero(), Vec(-Vec::UnitZ())), wmat, lid_id);
   std::mt19937_64 rng(5);
   for (int a = 0; a < 8; ++a)
     for (int b = 0; b < 8; ++b)
@@ -302,6 +313,8 @@ ColumnResult run_column(bool packed, std::size_t steps, bool two_materials = fal
   out.x.assign(p.x.begin(), p.x.begin() + p.owned());
   out.v.assign(p.v.begin(), p.v.begin() + p.owned());
   out.contacts = sim.contact_count();
+  out.lid_force = sim.body(lid_id).force;
+  out.lid_torque = sim.body(lid_id).torque;
   return out;
 }
 
@@ -487,9 +500,10 @@ TEST_CASE("Models with a scalar-only slot are not packed", "[contact][packed]") 
 TEMPLATE_TEST_CASE("A packed run follows the one-at-a-time run", "[contact][packed][engine]",
                    contact::HertzMindlin, contact::HertzMindlinEpsdSjkr) {
   // A 3D column of ~1000 polydisperse spheres with random velocities under gravity, between
-  // walls: the whole packed path (touch sorting, chunks with padding, history gather/scatter,
-  // force scatter) against the scalar loop, with one particle material and with
-  // two (chunks flushed at every change of material pair). The trajectories separate only by
+  // walls, under a sinking, spinning lid: the whole packed path (touch sorting, chunks with
+  // padding, history gather/scatter, force scatter, wall contacts queued for the packed law,
+  // forces on a moving body) against the scalar loop, with one particle material and with two
+  // (chunks flushed at every change of material pair). The trajectories separate only by
   // amplified rounding over 150 steps.
   const bool two_materials = GENERATE(false, true);
   INFO((two_materials ? "two particle materials" : "one particle material"));
@@ -506,4 +520,9 @@ TEMPLATE_TEST_CASE("A packed run follows the one-at-a-time run", "[contact][pack
   INFO("max position difference " << dx << " m, velocity " << dv << " m/s (max speed " << vmax << ")");
   CHECK(dx < 1e-12 * kR);
   CHECK(dv < 1e-9 * vmax);
+  INFO("lid force " << one.lid_force.transpose() << " N (packed " << packed.lid_force.transpose() << "), torque "
+                    << one.lid_torque.transpose() << " N m (packed " << packed.lid_torque.transpose() << ")");
+  REQUIRE(one.lid_force.z() > 0.0);  // the sinking lid presses on the column
+  CHECK((packed.lid_force - one.lid_force).norm() < 1e-9 * one.lid_force.norm());
+  CHECK((packed.lid_torque - one.lid_torque).norm() < 1e-9 * one.lid_torque.norm());
 }
