@@ -1362,7 +1362,8 @@ class Simulation {
   }
 
   // process_layer<false> with the particle pairs evaluated W at a time (contact/packed.hpp);
-  // the wall contacts are found one at a time and their law runs W at a time. Pass 1 lists the layer's touching entries without a branch
+  // the wall contacts are found one at a time and their law runs W at a time. Pass 1 lists the
+  // layer's touching entries without a branch
   // (which pair touches is unpredictable: a third do not) and moves history slots (a pair that
   // starts touching takes one, one that separates gives it back); then the touching pairs go
   // through chunks. A chunk holds pairs of one parameter set: a change of material pair flushes
