@@ -4,11 +4,14 @@
 // which entries' history slots must move (a pair that starts touching takes one, one that
 // separates gives it back).
 //
-// With AVX-512 the layer's entries are scanned 8 at a time as one stream, across row ends: the
-// rows are first written out per entry, then each block of 8 reads both particles' positions
-// through the lane transposes (core/lane_transpose.hpp), and the touching entries are packed
-// together with one compress instruction. (Scanning row by row, 8 lanes for rows of 3 to 4
-// entries in scene B, was 5 % slower than one entry at a time.) Elsewhere one entry at a time.
+// With AVX-512 or AVX2 the layer's entries are scanned W at a time (8 or 4) as one stream,
+// across row ends: the rows are first written out per entry, then each block of W reads both
+// particles' positions through the lane transposes (core/lane_transpose.hpp), and the touching
+// entries are packed together (one compress instruction with AVX-512; a lane permutation from
+// a 16-entry table with AVX2). (Scanning row by row, 8 lanes for rows of 3 to 4 entries in
+// scene B, was 5 % slower than one entry at a time; the stream with AVX2 made scene B 10-13 %
+// faster on a Zen 3 machine, probably because rows of varying length end in a mispredicted
+// branch; that VM has no branch counters to confirm it.) Elsewhere one entry at a time.
 // Both sum the squared distance as x*x + (y*y + z*z), the order of Eigen's squaredNorm; a pair
 // touching to within a rounding error may still come out differently where the compiler fuses
 // multiply-adds differently in the two.
@@ -59,19 +62,82 @@ inline std::size_t scan_rows_scalar(const TouchScanInput& in, std::uint32_t r0, 
   return nt;
 }
 
+namespace detail {
+
+// What the stream scan needs of the instruction set, on packs of W entry indices: load them,
+// number them, compare W doubles to a bit mask, and store the lanes of a bit mask packed
+// together (compress).
 #if defined(__AVX512F__) && defined(__AVX512VL__)
-inline constexpr bool kPackedTouchScan = lane_width == 8;
+inline constexpr bool kStreamScan = lane_width == 8;
+using IndexPack = __m256i;
+inline IndexPack load_indices(const std::uint32_t* p) { return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)); }
+inline IndexPack index_run(std::uint32_t e) {
+  return _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(e)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+}
+inline unsigned less_bits(const Lane& a, const Lane& b) {
+  return _mm512_cmp_pd_mask(static_cast<__m512d>(a), static_cast<__m512d>(b), _CMP_LT_OQ);
+}
+/// Bit l: p[l] == v, for the first `count` lanes (no read past them).
+inline unsigned equal_bits(const std::uint32_t* p, std::uint32_t count, std::uint32_t v) {
+  const __mmask8 valid = static_cast<__mmask8>((1u << count) - 1u);
+  const __m256i s = _mm256_maskz_loadu_epi32(valid, p);
+  return _mm256_mask_cmpeq_epi32_mask(valid, s, _mm256_set1_epi32(static_cast<int>(v)));
+}
+inline void store_compressed(std::uint32_t* out, IndexPack v, unsigned bits) {
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_maskz_compress_epi32(static_cast<__mmask8>(bits), v));
+}
+#elif defined(__AVX2__)
+inline constexpr bool kStreamScan = lane_width == 4;
+using IndexPack = __m128i;
+inline IndexPack load_indices(const std::uint32_t* p) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)); }
+inline IndexPack index_run(std::uint32_t e) {
+  return _mm_add_epi32(_mm_set1_epi32(static_cast<int>(e)), _mm_setr_epi32(0, 1, 2, 3));
+}
+inline unsigned less_bits(const Lane& a, const Lane& b) {
+  return static_cast<unsigned>(
+      _mm256_movemask_pd(_mm256_cmp_pd(static_cast<__m256d>(a), static_cast<__m256d>(b), _CMP_LT_OQ)));
+}
+inline unsigned equal_bits(const std::uint32_t* p, std::uint32_t count, std::uint32_t v) {
+  const __m128i s =
+      count == 4 ? load_indices(p)
+                 : _mm_maskload_epi32(reinterpret_cast<const int*>(p),
+                                      _mm_cmpgt_epi32(_mm_set1_epi32(static_cast<int>(count)), _mm_setr_epi32(0, 1, 2, 3)));
+  const __m128i eq = _mm_cmpeq_epi32(s, _mm_set1_epi32(static_cast<int>(v)));
+  return static_cast<unsigned>(_mm_movemask_ps(_mm_castsi128_ps(eq))) & ((1u << count) - 1u);
+}
+// AVX2 has no compress: for each 4-bit mask, the lanes to move to the front (a table of 256 B).
+struct CompressOrder {
+  alignas(16) std::int32_t lane[16][4];
+};
+inline constexpr CompressOrder kCompressOrder = [] {
+  CompressOrder t{};
+  for (unsigned m = 0; m < 16; ++m) {
+    unsigned k = 0;
+    for (unsigned l = 0; l < 4; ++l)
+      if (((m >> l) & 1u) != 0) t.lane[m][k++] = static_cast<std::int32_t>(l);
+  }
+  return t;
+}();
+inline void store_compressed(std::uint32_t* out, IndexPack v, unsigned bits) {
+  const __m128i order = _mm_load_si128(reinterpret_cast<const __m128i*>(kCompressOrder.lane[bits]));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_castps_si128(_mm_permutevar_ps(_mm_castsi128_ps(v), order)));
+}
 #else
-inline constexpr bool kPackedTouchScan = false;
+inline constexpr bool kStreamScan = false;
 #endif
 
-/// As scan_rows_scalar, 8 entries at a time where the machine has AVX-512. `touching` and
-/// `rows` need room for all entries of the rows plus 8.
+}  // namespace detail
+
+inline constexpr bool kPackedTouchScan = detail::kStreamScan;
+
+/// As scan_rows_scalar, W entries at a time where the machine has AVX2 or AVX-512. `touching`
+/// and `rows` need room for all entries of the rows plus 8.
 template <class MoveSlot>
 inline std::size_t scan_rows(const TouchScanInput& in, std::uint32_t r0, std::uint32_t r1,
                              std::uint32_t* touching, std::uint32_t* rows, MoveSlot&& move_slot) {
-#if defined(__AVX512F__) && defined(__AVX512VL__)
+#if defined(__AVX2__) || defined(__AVX512F__)
   if constexpr (kPackedTouchScan) {
+    constexpr std::uint32_t W = lane_width;
     const std::uint32_t e0 = in.row_begin[r0], e1 = in.row_begin[r1];
     if (e0 == e1) return 0;
     // The row of every entry, 8 at a time (a row's last store runs into the next row's part,
@@ -81,28 +147,27 @@ inline std::size_t scan_rows(const TouchScanInput& in, std::uint32_t r0, std::ui
       for (std::uint32_t e = in.row_begin[i]; e < in.row_begin[i + 1]; e += 8)
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(rows + (e - e0)), row);
     }
-    const __m256i lane_index = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     std::size_t nt = 0;
     // The output is written over the row list: block b's output ends at or before its own
     // input's end, and the blocks after it read only beyond that.
-    for (std::uint32_t e = e0; e < e1; e += 8) {
-      const std::uint32_t count = e1 - e < 8 ? e1 - e : 8;
-      const __mmask8 valid = static_cast<__mmask8>((1u << count) - 1u);
+    for (std::uint32_t e = e0; e < e1; e += W) {
+      const std::uint32_t count = e1 - e < W ? e1 - e : W;
+      const unsigned valid = (1u << count) - 1u;
       const std::uint32_t* ip = rows + (e - e0);
       const std::uint32_t* jp = in.nbr + e;
       // The layer's last block: its lanes past the end repeat its last entry.
-      std::uint32_t i_tail[8], j_tail[8];
-      if (count < 8) {
-        for (std::uint32_t l = 0; l < 8; ++l) {
+      std::uint32_t i_tail[W], j_tail[W];
+      if (count < W) {
+        for (std::uint32_t l = 0; l < W; ++l) {
           i_tail[l] = ip[l < count ? l : count - 1];
           j_tail[l] = jp[l < count ? l : count - 1];
         }
         ip = i_tail;
         jp = j_tail;
       }
-      const double* rec_i[8];
-      const double* rec_j[8];
-      for (std::uint32_t l = 0; l < 8; ++l) {
+      const double* rec_i[W];
+      const double* rec_j[W];
+      for (std::uint32_t l = 0; l < W; ++l) {
         rec_i[l] = in.x + 3 * static_cast<std::size_t>(ip[l]);
         rec_j[l] = in.x + 3 * static_cast<std::size_t>(jp[l]);
       }
@@ -111,25 +176,21 @@ inline std::size_t scan_rows(const TouchScanInput& in, std::uint32_t r0, std::ui
       transpose_in<3>(rec_j, xj);
       const Lane rs =
           gather_lanes<GatherBy::registers>(in.radius, ip) + gather_lanes<GatherBy::registers>(in.radius, jp);
-      const __m256i iv = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ip));
+      const detail::IndexPack iv = detail::load_indices(ip);
       const Lane dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
       const Lane d2 = dx * dx + (dy * dy + dz * dz);
-      const __mmask8 touch =
-          _mm512_cmp_pd_mask(static_cast<__m512d>(d2), static_cast<__m512d>(rs * rs), _CMP_LT_OQ) & valid;
+      const unsigned touch = detail::less_bits(d2, rs * rs) & valid;
       if (in.slot != nullptr) {
-        const __m256i s = _mm256_maskz_loadu_epi32(valid, in.slot + e);
-        const __mmask8 none =
-            _mm256_mask_cmpeq_epi32_mask(valid, s, _mm256_set1_epi32(static_cast<int>(in.no_slot)));
+        const unsigned none = detail::equal_bits(in.slot + e, count, in.no_slot);
         // A lane's slot moves where touch == none (touching without one, or apart with one).
-        for (unsigned change = static_cast<unsigned>(~(touch ^ none)) & valid; change != 0; change &= change - 1) {
+        for (unsigned change = ~(touch ^ none) & valid; change != 0; change &= change - 1) {
           const unsigned l = static_cast<unsigned>(std::countr_zero(change));
           move_slot(e + l, ((touch >> l) & 1u) != 0);
         }
       }
-      const __m256i entries = _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(e)), lane_index);
-      _mm256_storeu_si256(reinterpret_cast<__m256i*>(touching + nt), _mm256_maskz_compress_epi32(touch, entries));
-      _mm256_storeu_si256(reinterpret_cast<__m256i*>(rows + nt), _mm256_maskz_compress_epi32(touch, iv));
-      nt += static_cast<std::size_t>(std::popcount(static_cast<unsigned>(touch)));
+      detail::store_compressed(touching + nt, detail::index_run(e), touch);
+      detail::store_compressed(rows + nt, iv, touch);
+      nt += static_cast<std::size_t>(std::popcount(touch));
     }
     return nt;
   }
