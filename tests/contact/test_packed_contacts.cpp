@@ -367,9 +367,9 @@ void check_transposes_all(const std::vector<std::size_t>& order, std::index_sequ
 
 TEST_CASE("Lane transposes move each record's doubles to its own lane", "[contact][packed]") {
   // core/lane_transpose.hpp: with AVX-512 or AVX2 (a -march=native build, granule_native_tests)
-  // in registers, block by block of four doubles with masks for the rest; otherwise through a
-  // buffer. Records of 1-9 doubles cover full blocks, partial ones and two blocks (histories of
-  // 4 and 8 doubles, 3-vectors).
+  // in registers, block by block of four doubles (three as two plus one with AVX2, masks for the
+  // rest); otherwise through a buffer. Records of 1-9 doubles cover full blocks, partial ones
+  // and two blocks (histories of 4 and 8 doubles, 3-vectors).
   INFO("lane width " << W << (detail::kTransposeInRegisters ? " (in registers)" : " (through a buffer)"));
   std::vector<std::size_t> reversed(W), repeated(W), spread(W);
   for (std::size_t l = 0; l < W; ++l) {
