@@ -187,30 +187,9 @@ void bm_evaluate(benchmark::State& st) {
 
 /// Packs W scalar geometries (lanes k..k+W-1 of `g`) into one Dim3Lanes geometry.
 contact::ContactGeometry<Dim3Lanes> pack(const std::vector<contact::ContactGeometry<Dim3>>& g, std::size_t k) {
-  auto lane = [&](auto get) { return Lane([&](auto l) { return get(g[k + l]); }); };
-  auto lane3 = [&](auto get) {
-    return LaneVec3{lane([&](const auto& c) { return get(c)[0]; }), lane([&](const auto& c) { return get(c)[1]; }),
-                    lane([&](const auto& c) { return get(c)[2]; })};
-  };
-  contact::ContactGeometry<Dim3Lanes> p;
-  p.n = lane3([](const auto& c) { return c.n; });
-  p.overlap = lane([](const auto& c) { return c.overlap; });
-  p.distance = lane([](const auto& c) { return c.distance; });
-  p.r_i = lane([](const auto& c) { return c.r_i; });
-  p.r_j = lane([](const auto& c) { return c.r_j; });
-  p.arm_i = lane([](const auto& c) { return c.arm_i; });
-  p.arm_j = lane([](const auto& c) { return c.arm_j; });
-  p.r_eff = lane([](const auto& c) { return c.r_eff; });
-  p.m_eff = lane([](const auto& c) { return c.m_eff; });
-  p.v_rel = lane3([](const auto& c) { return c.v_rel; });
-  p.vn = lane([](const auto& c) { return c.vn; });
-  p.vt = lane3([](const auto& c) { return c.vt; });
-  p.omega_rel = lane3([](const auto& c) { return c.omega_rel; });
-  p.i_roll = lane([](const auto& c) { return c.i_roll; });
-  p.dt = lane([](const auto& c) { return c.dt; });
-  p.twist = lane([](const auto& c) { return c.twist; });
-  p.damp_at_kinematic_velocity();
-  return p;
+  contact::GeometryLanes lanes;
+  for (std::size_t l = 0; l < lane_width; ++l) lanes.set(l, g[k + l]);
+  return lanes.packed();
 }
 
 template <class Model>

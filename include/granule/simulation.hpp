@@ -1290,7 +1290,7 @@ class Simulation {
   // Wall contacts queued for the packed law (process_layer_packed): W at a time, one parameter
   // set per pack.
   struct WallQueue {
-    contact::WallLanes lanes;
+    contact::GeometryLanes lanes;
     State* state[lane_width];
     State scratch[lane_width];  ///< histories of contacts without a slot (dropped after the law)
     std::uint32_t i[lane_width], body[lane_width];

@@ -12,7 +12,7 @@
 //   3. scalar: add the forces and torques to both particles, in the order of the entries
 //      (a row's partners, and a particle's rows, may repeat within a pack).
 // Wall contacts are found one at a time (the wall shapes and their features) and queued; their
-// law runs W at a time through WallLanes.
+// law runs W at a time through GeometryLanes.
 // Only the pass-2 arithmetic is new code; the laws are the same templates as for one contact.
 #include <array>
 #include <cstdint>
@@ -146,11 +146,12 @@ struct PairChunk {
   }
 };
 
-/// W wall contacts for one packed law call: their geometries, built one at a time (the surface
-/// point of each wall shape, as Simulation::wall_geometry), stored lane by lane. A wall has no
-/// second particle to read, so only the law is packed. (In scene B the scalar law took about
-/// 68 of the ~110 TSC cycles a wall contact cost.)
-struct WallLanes {
+/// W contact geometries built one at a time (ContactGeometry<Dim3>), stored lane by lane, for
+/// one packed law call: the engine's wall contacts (the surface point of each wall shape, as
+/// Simulation::wall_geometry; a wall has no second particle to read, so only the law is packed;
+/// in scene B the scalar law took about 68 of the ~110 TSC cycles a wall contact cost) and the
+/// kernel benchmarks' batches.
+struct GeometryLanes {
   enum Field { nx, ny, nz, overlap, distance, r_i, r_j, arm_i, arm_j, r_eff, m_eff, vx, vy, vz, vn,
                vtx, vty, vtz, wx, wy, wz, i_roll, dt, twist, fields };
   alignas(64) double v[fields][lane_width];
