@@ -402,12 +402,17 @@ TEST_CASE("Lane transposes move each record's doubles to its own lane", "[contac
 }
 
 TEST_CASE("The touch scan lists a layer's touching entries and moves slots in entry order", "[contact][packed]") {
-  // contact/touch_scan.hpp: with AVX-512 (granule_native_tests) 8 entries at a time across the
-  // ends of rows; the reference is the one-at-a-time scan and, for the touches, the definition
-  // |x_i - x_j|^2 < (r_i + r_j)^2. Rows of 0 to 19 entries (empty ones, ones longer than a
-  // pack), layers starting and ending anywhere, and slots given to about half the entries, so
-  // that slots move both ways.
+  // contact/touch_scan.hpp: with AVX-512 or AVX2 (granule_native_tests, granule_avx2_tests) 8 or
+  // 4 entries at a time across the ends of rows; the reference is the one-at-a-time scan and,
+  // for the touches, the definition |x_i - x_j|^2 < (r_i + r_j)^2. Rows of 0 to 19 entries
+  // (empty ones, ones longer than a pack), layers starting and ending anywhere, and slots given
+  // to about half the entries, so that slots move both ways.
   INFO("packed scan: " << (contact::kPackedTouchScan ? "yes" : "no"));
+#if defined(__AVX2__)
+  // In the wide flavours the stream scan must be the one compared (else this compares the
+  // one-at-a-time scan with itself).
+  CHECK(contact::kPackedTouchScan == (lane_width == 4 || lane_width == 8));
+#endif
   std::mt19937_64 rng(21);
   const std::size_t n = 400;
   std::vector<Vec> x(n);

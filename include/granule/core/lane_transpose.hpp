@@ -8,7 +8,8 @@
 // at a time with one (masked) load each and transposed in registers: 8 loads and 12 shuffles
 // per four doubles of 8 contacts, against 32 scalar loads and 32 scalar stores through a buffer,
 // which is what the other widths (and this header without those instruction sets) still do.
-// Masked loads and stores touch only the record's own doubles (no read past an array's end).
+// Masked loads and stores touch only the record's own doubles (no read past an array's end);
+// with AVX2 a block of three doubles is read and written as two plus one instead.
 // The lane order and the values are those of the buffer copy: results are bitwise identical.
 #include <cstddef>
 #include <cstdint>
