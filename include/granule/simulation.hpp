@@ -1361,6 +1361,31 @@ class Simulation {
     return v.empty() ? nullptr : v.front().data();
   }
 
+  // Asks the caches for the particle data that layer l's packs gather and scatter (velocities,
+  // angular velocities, inverse masses, forces and torques of layers l and l + 1), a few
+  // hundred cache lines requested at once. When the bed outgrows the L3 cache (100k particles,
+  // ~50 MB) these lines come from memory, and the packs' own loads, spread over many arrays,
+  // left the hardware prefetchers behind: +3-4 % on the 100k beds, no change at 20k
+  // (docs/performance.md, "Beds larger than the cache"). Positions and radii are left to the
+  // touch scan, which reads them first and in order.
+  void prefetch_layer_pair(std::size_t l) const {
+    const auto& p = particles_;
+    const std::size_t last = list_.layer_begin.size() - 1;
+    const std::size_t a = list_.layer_begin[l], b = list_.layer_begin[std::min(l + 2, last)];
+    if (a == b) return;
+    // (64-byte lines; __builtin_prefetch(address, 1 = for a write, 2 = keep in L2 and L3).)
+    const auto lines = [a, b](const auto* base, auto for_write) {
+      const char* c = reinterpret_cast<const char*>(base + a);
+      const char* const end = reinterpret_cast<const char*>(base + b);
+      for (; c < end; c += 64) __builtin_prefetch(c, decltype(for_write)::value, 2);
+    };
+    lines(p.v.data(), std::false_type{});
+    lines(p.omega.data(), std::false_type{});
+    lines(p.inv_mass.data(), std::false_type{});
+    lines(p.f.data(), std::true_type{});
+    lines(p.torque.data(), std::true_type{});
+  }
+
   // process_layer<false> with the particle pairs evaluated W at a time (contact/packed.hpp);
   // the wall contacts are found one at a time and their law runs W at a time. Pass 1 lists the
   // layer's touching entries without a branch
@@ -1377,6 +1402,7 @@ class Simulation {
       auto& acc = layer_acc_[l];
       const std::size_t r0 = list_.layer_begin[l], r1 = list_.layer_begin[l + 1];
       const std::size_t entries = list_.row_begin[r1] - list_.row_begin[r0];
+      prefetch_layer_pair(l);
 #ifdef _OPENMP
       PairWork& work = pair_work_[static_cast<std::size_t>(omp_get_thread_num())];
 #else
