@@ -10,6 +10,10 @@
 //                           with AVX-512 (GRANULE_NATIVE on an AVX-512 machine)
 //   latency/sqrt_throughput 8 independent scalar square roots per round: items = sqrt/s
 //   latency/div_throughput  8 independent scalar divisions (by 3.0) per round: items = div/s
+//   latency/avx_sqrt_throughput, latency/avx_div_throughput
+//                           the same with 256-bit vectors (4 doubles; AVX builds): items =
+//                           doubles/s -- the packed contact law's square roots and divisions
+//                           on an AVX2 machine (the width of its packs there)
 //   stream/triad            a[i] = b[i] + s c[i] over 3 x 32 MiB (above every cache level),
 //                           bytes_per_second counts 24 B per element (STREAM convention,
 //                           McCalpin 1995; write-allocate traffic not counted); 1 thread
@@ -34,7 +38,7 @@
 #ifdef _OPENMP
 #include <omp.h>
 #endif
-#if defined(__AVX512F__)
+#if defined(__AVX__)
 #include <immintrin.h>
 #endif
 
@@ -117,6 +121,36 @@ void bm_div(benchmark::State& st) {
     }
   }
   st.SetItemsProcessed(st.iterations() * kRounds * 8);
+}
+#endif
+
+#if defined(__AVX__)
+// Eight 256-bit operations per round on inputs the compiler cannot see through (so it can
+// neither hoist nor drop them) and results it must keep: independent, so this is throughput.
+template <class Op>
+void avx_throughput(benchmark::State& st, Op op) {
+  constexpr std::int64_t kRounds = 1 << 12;
+  __m256d x[8];
+  for (int k = 0; k < 8; ++k) x[k] = _mm256_set1_pd(2.0 + k);
+  const __m256d den = _mm256_set1_pd(3.0);
+  for (auto _ : st) {
+    for (std::int64_t i = 0; i < kRounds; ++i) {
+      for (auto& a : x) {
+        asm volatile("" : "+x"(a));
+        __m256d y = op(a, den);
+        asm volatile("" : : "x"(y));
+      }
+    }
+  }
+  st.SetItemsProcessed(st.iterations() * kRounds * 8 * 4);
+}
+
+void bm_avx_sqrt(benchmark::State& st) {
+  avx_throughput(st, [](__m256d a, __m256d) { return _mm256_sqrt_pd(a); });
+}
+
+void bm_avx_div(benchmark::State& st) {
+  avx_throughput(st, [](__m256d a, __m256d d) { return _mm256_div_pd(a, d); });
 }
 #endif
 
@@ -235,6 +269,10 @@ BENCHMARK(bm_dependent_add)->Name("clock/dependent_add");
 BENCHMARK(bm_scalar_fma)->Name("flops/scalar_fma");
 BENCHMARK(bm_sqrt)->Name("latency/sqrt_throughput");
 BENCHMARK(bm_div)->Name("latency/div_throughput");
+#endif
+#if defined(__AVX__)
+BENCHMARK(bm_avx_sqrt)->Name("latency/avx_sqrt_throughput");
+BENCHMARK(bm_avx_div)->Name("latency/avx_div_throughput");
 #endif
 #if defined(__AVX512F__)
 BENCHMARK(bm_avx512_fma)->Name("flops/avx512_fma");
