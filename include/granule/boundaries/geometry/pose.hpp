@@ -20,7 +20,7 @@ class Pose {
   using Mat = typename D::Mat;
 
   /// Identity pose.
-  Pose() : rotation_(Mat::Identity()), translation_(Vec::Zero()) {}
+  Pose() : rotation_(Mat::Identity()), translation_(Vec::Zero()), rotated_(false) {}
 
   /// `rotation` must be orthonormal with determinant +1 (to 1e-9); `translation` [m].
   Pose(const Mat& rotation, const Vec& translation) : rotation_(rotation), translation_(translation) {
@@ -30,6 +30,7 @@ class Pose {
     require(std::abs(det - 1.0) <= 1e-9, "geometry::Pose", "det R", det, "1 +- 1e-9 (proper rotation)");
     require(translation.allFinite(), "geometry::Pose", "translation (max |t_k|)",
             translation.cwiseAbs().maxCoeff(), "finite numbers");
+    note_rotation();
   }
 
   /// Pure translation.
@@ -39,11 +40,17 @@ class Pose {
   const Vec& translation() const { return translation_; }
 
   /// Body -> world for points and directions.
-  Vec to_world(const Vec& body_point) const { return rotation_ * body_point + translation_; }
-  Vec rotate(const Vec& body_dir) const { return rotation_ * body_dir; }
+  Vec to_world(const Vec& body_point) const {
+    return rotated_ ? Vec(rotation_ * body_point + translation_) : Vec(body_point + translation_);
+  }
+  Vec rotate(const Vec& body_dir) const { return rotated_ ? Vec(rotation_ * body_dir) : body_dir; }
   /// World -> body for points and directions.
-  Vec to_body(const Vec& world_point) const { return rotation_.transpose() * (world_point - translation_); }
-  Vec rotate_back(const Vec& world_dir) const { return rotation_.transpose() * world_dir; }
+  Vec to_body(const Vec& world_point) const {
+    return rotated_ ? Vec(rotation_.transpose() * (world_point - translation_)) : Vec(world_point - translation_);
+  }
+  Vec rotate_back(const Vec& world_dir) const {
+    return rotated_ ? Vec(rotation_.transpose() * world_dir) : world_dir;
+  }
 
   /// A surface point computed in the body frame, expressed in the world frame.
   SurfacePoint<D> to_world(const SurfacePoint<D>& s) const {
@@ -71,18 +78,25 @@ class Pose {
     Pose p;
     p.rotation_ = rotation_ * b.rotation_;
     p.translation_ = rotation_ * b.translation_ + translation_;
+    p.note_rotation();
     return p;
   }
   Pose inverse() const {
     Pose p;
     p.rotation_ = rotation_.transpose();
     p.translation_ = -(rotation_.transpose() * translation_);
+    p.note_rotation();
     return p;
   }
 
  private:
+  // Most walls (the planes of a box, a translated rod) are not rotated: for them the two 3x3
+  // products per wall contact (into the body frame and back) were 1.7 % of scene B's time.
+  void note_rotation() { rotated_ = rotation_ != Mat::Identity(); }
+
   Mat rotation_;
   Vec translation_;
+  bool rotated_;  ///< rotation_ is not the identity
 };
 
 /// 2D pose from a rotation angle about z [rad] and a translation [m].
