@@ -30,6 +30,25 @@ TEST_CASE("Pose algebra in 3D", "[geometry][pose]") {
   CHECK_THROWS_AS(Pose<Dim3>(2.0 * Eigen::Matrix3d::Identity(), V3::Zero()), InvalidParameter);
 }
 
+// An unrotated pose skips its rotation products (Pose::rotated_); the composition or inverse
+// of poses that rotate must not. Exact results: a translation alone is one addition.
+TEST_CASE("An unrotated pose translates exactly; compositions keep their rotation", "[geometry][pose]") {
+  using V3 = Eigen::Vector3d;
+  const V3 t(0.25, -1.5, 3.0), x(0.7, -0.4, 1.9), d(0.0, 0.6, -0.8);
+  const Pose<Dim3> shift = Pose<Dim3>::translation(t);
+  CHECK(shift.to_world(x) == x + t);
+  CHECK(shift.to_body(x) == x - t);
+  CHECK(shift.rotate(d) == d);
+  CHECK(shift.rotate_back(d) == d);
+  CHECK(Pose<Dim3>().to_world(x) == x);
+  // A rotation composed with a shift, and the inverse of a rotation, still rotate.
+  const Pose<Dim3> q = pose_3d(std::numbers::pi / 2, V3(0, 0, 1), V3::Zero());
+  CHECK(((q * shift).rotate(V3(1, 0, 0)) - V3(0, 1, 0)).norm() < 1e-15);
+  CHECK(((shift * q).to_world(V3(1, 0, 0)) - (V3(0, 1, 0) + t)).norm() < 1e-15);
+  CHECK((q.inverse().rotate(V3(0, 1, 0)) - V3(1, 0, 0)).norm() < 1e-15);
+  CHECK((shift.inverse().to_world(x) - (x - t)).norm() == 0.0);
+}
+
 TEST_CASE("Pose algebra in 2D", "[geometry][pose]") {
   using V2 = Eigen::Vector2d;
   const Pose<Dim2> p = pose_2d(std::numbers::pi / 2, V2(1, 0));
