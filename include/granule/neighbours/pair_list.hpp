@@ -57,6 +57,7 @@ class PairList {
   std::vector<HistoryPool> pools;         ///< per cell layer (empty when !HasState)
   std::vector<std::uint32_t> wall_begin;  ///< size owned + 1
   std::vector<WallEntry> wall;            ///< wall candidates per row
+  std::vector<std::uint32_t> wall_row;    ///< row of each wall entry (derived from wall_begin)
   std::vector<State> wall_state;          ///< history per wall entry (empty when !HasState)
   std::vector<std::uint32_t> layer_begin; ///< row ranges of the cell layers (size layers + 1)
   /// Positions of the real particles at the last build, in single precision: the rebuild test
@@ -209,6 +210,7 @@ class PairList {
     pools.resize(r.template pod<std::uint64_t>());
     for (auto& pool : pools) { r.vec(pool.states); r.vec(pool.free); }
     builds = r.template pod<std::uint64_t>();
+    index_wall_rows();
     detached_ = false;
   }
 
@@ -218,7 +220,8 @@ class PairList {
     for (const auto& pool : pools) pooled += pool.states.capacity() * sizeof(State) + pool.free.capacity() * 4;
     return row_begin.capacity() * 4 + nbr.capacity() * 4 + slot.capacity() * 4 + pooled +
            pools.capacity() * sizeof(HistoryPool) + wall_begin.capacity() * 4 +
-           wall.capacity() * sizeof(WallEntry) + wall_state.capacity() * sizeof(State) * HasState +
+           wall.capacity() * sizeof(WallEntry) + wall_row.capacity() * 4 +
+           wall_state.capacity() * sizeof(State) * HasState +
            x_at_build.capacity() * sizeof(BuildPosition) + cell_start_.capacity() * 4 +
            cell_items_.capacity() * 4 + row_of_id_.capacity() * 4 + layer_begin.capacity() * 4 +
            cell_of_.capacity() * 4 + cell_coords_.capacity() * sizeof(cell_coords_[0]) +
@@ -457,6 +460,14 @@ class PairList {
       wall_begin[i + 1] = static_cast<std::uint32_t>(wall.size());
     }
     if constexpr (HasState) wall_state.assign(wall.size(), State{});
+    index_wall_rows();
+  }
+
+  // The packed loop walks a layer's wall entries, not its rows: most rows have none.
+  void index_wall_rows() {
+    wall_row.resize(wall.size());
+    for (std::size_t i = 0; i + 1 < wall_begin.size(); ++i)
+      for (std::uint32_t e = wall_begin[i]; e < wall_begin[i + 1]; ++e) wall_row[e] = static_cast<std::uint32_t>(i);
   }
 
   static std::size_t max_id(const ParticleStore<D>& p) {
