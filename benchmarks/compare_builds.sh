@@ -61,13 +61,16 @@ fi
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 run() { "$1" --scene "$scene" --data "$data" --threads 1 "${@:2}"; }
-name() { echo "$(basename "$(dirname "$1")")/$(basename "$1")"; }
+# Builds are named by their position on the command line (#1, #2, ...): two builds often share
+# their file name and the last folders of their path (build-a/benchmarks/..., build-b/...).
+name() { echo "#$(($1 + 1))"; }
 ir() { sed -n 's/.*Collected : \([0-9]*\).*/\1/p' "$1"; }
 
 particles="$(run "${bins[0]}" --steps 1 --warmup 0 --repeat 1 2> "$work/first.log" |
              sed -n 's/^scene=.* particles=\([0-9]*\) .*/\1/p' | head -1)" || particles=""
 [[ -n "$particles" ]] || die "'${bins[0]}' printed no summary line on ${data}: $(tail -2 "$work/first.log")"
 echo "# scene ${scene}, ${particles} particles, bed ${data}, $(date -u '+%Y-%m-%d %H:%M UTC')"
+for k in "${!bins[@]}"; do echo "# build $(name "$k"): ${bins[$k]}"; done
 
 if [[ $state == 1 ]]; then
   echo "# end state after ${state_steps} steps (byte comparison with the first build)"
@@ -76,7 +79,7 @@ if [[ $state == 1 ]]; then
       die "'${bins[$k]}' failed writing its end state"
     verdict=reference
     [[ $k -gt 0 ]] && { cmp -s "$work/state0" "$work/state$k" && verdict=same || verdict=differs; }
-    echo "state $(name "${bins[$k]}") $verdict"
+    echo "state $(name "$k") $verdict"
   done
 fi
 
@@ -91,7 +94,7 @@ if [[ $callgrind == 1 ]]; then
     wait
     lo="$(ir "$work/cg$k.$cg_steps.log")" hi="$(ir "$work/cg$k.$((cg_steps + 30)).log")"
     [[ -n "$lo" && -n "$hi" ]] || die "callgrind gave no count for '${bins[$k]}' (see valgrind's output)"
-    awk -v a="$lo" -v b="$hi" -v n="$particles" -v w="$(name "${bins[$k]}")" \
+    awk -v a="$lo" -v b="$hi" -v n="$particles" -v w="$(name "$k")" \
       'BEGIN { printf "instructions %s %.1f\n", w, (b - a) / (30 * n) }'
   done
 fi
@@ -103,13 +106,13 @@ if [[ $rounds -gt 0 ]]; then
       v="$(taskset -c "$core" "${bins[$k]}" --scene "$scene" --data "$data" --threads 1 --steps "$steps" \
              --warmup 20 --repeat 5 2> /dev/null |
            sed -n 's/.*particle_steps_per_s_run=\([0-9.e+]*\).*/\1/p' | sort -g | tail -1)" || v=""
-      echo "round $r $(name "${bins[$k]}") $v" | tee -a "$work/speed"
+      echo "round $r $(name "$k") $v" | tee -a "$work/speed"
     done
   done
   for k in "${!bins[@]}"; do
-    sorted="$(awk -v b="$(name "${bins[$k]}")" '$3 == b && $4 != "" { print $4 }' "$work/speed" | sort -g)"
-    [[ -n "$sorted" ]] || { echo "speed $(name "${bins[$k]}") no timed run finished"; continue; }
-    echo "$sorted" | awk -v w="$(name "${bins[$k]}")" '{ x[NR] = $1 }
+    sorted="$(awk -v b="$(name "$k")" '$3 == b && $4 != "" { print $4 }' "$work/speed" | sort -g)"
+    [[ -n "$sorted" ]] || { echo "speed $(name "$k") no timed run finished"; continue; }
+    echo "$sorted" | awk -v w="$(name "$k")" '{ x[NR] = $1 }
       END { m = NR % 2 ? x[(NR + 1) / 2] : 0.5 * (x[NR / 2] + x[NR / 2 + 1]);
             printf "speed %s best %.4g median %.4g (%d rounds)\n", w, x[NR], m, NR }'
   done
