@@ -148,7 +148,7 @@ TEMPLATE_TEST_CASE("Tangential history with HistoryRotation::Project shrinks by 
 // only): both particles spin together about the line of centres, so nothing moves relative to
 // the contact and the tangential force must turn with the pair. Projection alone cannot see a
 // rotation about n (omega x n = 0, v_t = 0) and left the force fixed in space: after 90 deg it was
-// perpendicular to where it should be (issue T3 of /work/notes/contact_tests_report.md; LAMMPS
+// perpendicular to where it should be (docs/physics.md, "Twist about the normal"; LAMMPS
 // and LIGGGHTS share that limitation). The history is now also turned about n by the mean twist
 // angle theta = (omega_i + omega_j)/2 . n dt (history.hpp, rotate_history: add tan(theta) n x F,
 // restore the length), which keeps the length exactly; its angle error, ~0.02 theta^9 per step,

@@ -174,8 +174,8 @@ TEMPLATE_TEST_CASE("Oblique impacts, linear spring-dashpot with e = 1: energy ne
 }
 
 // Reference: energy balance as above, now for the Mindlin spring, whose stiffness
-// k_t = 8 G* sqrt(R* delta) changes during the contact. Formerly (issue T1 of
-// /work/notes/contact_tests_report.md) the spring was F_t = -k_t(delta) xi with xi the total
+// k_t = 8 G* sqrt(R* delta) changes during the contact. Formerly (docs/physics.md, "Tangential
+// laws", "Displacement history") the spring was F_t = -k_t(delta) xi with xi the total
 // tangential displacement; then d/dt (k_t |xi|^2 / 2) - F_t . v_t = (dk_t/dt) |xi|^2 / 2 > 0 while
 // the contact loads: the stored energy rose without work (a closed load-shear-unload cycle gains
 // (k_2 - k_1) xi^2 / 2; the path-independent-law problem of Elata & Berryman 1996). Measured
@@ -200,7 +200,7 @@ TEMPLATE_TEST_CASE("Oblique impacts, Hertz-Mindlin with e = 1: energy never grow
 }
 
 // Reference: Coulomb's law of sliding friction (|F_t| = mu |F_n| while the contact slides) and
-// the energy balance. Formerly (issue T2 of /work/notes/contact_tests_report.md)
+// the energy balance. Formerly (docs/physics.md, "Tangential laws", `Truncation::Total`)
 // Truncation::Total reset the spring to the limited force MINUS the dashpot force, F_s = F_lim +
 // gamma_t v_t (Luding 2008 eq. 17 / LAMMPS convention). While the dashpot force gamma_t |v_t|
 // exceeds mu |F_n| (early and late in a sliding contact: gamma_t ~ delta^1/4, mu F_n ~ delta^3/2)

@@ -5,10 +5,10 @@
 //  - energy: velocity Verlet is symplectic for smooth conservative forces (Hairer, Lubich &
 //    Wanner 2003, ch. VIII); contact forces are not smooth at first touch, so each collision
 //    leaves a small energy error, O(dt^2) for the linear spring and of higher order for Hertz,
-//    whose force vanishes smoothly (as delta^3/2) at contact. Measured drifts (max over the run
-//    of |E - E0| / E0, E = kinetic + elastic) are written in /work/notes/engine_tests_report.md;
-//    we require < 3e-4 over 10^4 steps at dt = t_c / 50 (measured up to 1.2e-4), and that
-//    dividing dt by 4 shrinks the error by more than 3 (O(dt^2) would give 16).
+//    whose force vanishes smoothly (as delta^3/2) at contact. For the error (max over the run of
+//    |E - E0| / E0, E = kinetic + elastic) we require < 3e-4 over 10^4 steps at dt = t_c / 50
+//    (measured up to 1.2e-4), and that dividing dt by 4 shrinks it by more than 3 (O(dt^2)
+//    would give 16).
 #include <catch2/catch.hpp>
 
 #include "engine_helpers.hpp"

@@ -265,7 +265,7 @@ TEMPLATE_TEST_CASE("set_dt with the same time step leaves the trajectory bitwise
   CHECK(d == 0.0);
 }
 
-// Formerly an engine bug (/work/notes/engine_tests_report.md, "set-up evaluation"):
+// Formerly an engine bug (docs/physics.md, "Tangential laws", "Set-up evaluation"):
 // Simulation::initialise() evaluates the forces once before the first step through the same
 // process_layer() as a step, and Model::evaluate() added v_t dt to every tangential spring; the
 // first step added it again, so after step 1 the spring (and F_t) was twice the correct value
