@@ -6,8 +6,10 @@
 // check; the clock is read every `stride` steps, the stride adapting so that the clock is
 // read about 20 times per second, and a line is printed at most every `interval` seconds.
 // ETA = elapsed (1 - f)/f with f the completed fraction (steps, or time over end time).
-// Mode Auto prints only when stderr is a terminal (isatty), so logs and CI stay clean; On
-// forces it (one line per update when not on a terminal), Off silences it.
+// Mode Auto rewrites one line every `interval` seconds when stderr is a terminal (isatty), and
+// prints a new line every `log_interval` seconds when it is not (a log file, CI), so that a long
+// run shows its ETA in a log too without flooding it; On prints every `interval` wherever the
+// output goes, Off silences it.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -32,7 +34,8 @@ struct ProgressOptions {
   std::uint64_t total_steps = 0;  ///< steps of the run (0: unknown)
   double end_time = 0.0;          ///< simulated end time [s], for the percentage when total_steps == 0
   ProgressMode mode = ProgressMode::Auto;
-  double interval = 0.5;          ///< wall-clock time between lines [s]
+  double interval = 0.5;          ///< wall-clock time between lines on a terminal, or with On [s]
+  double log_interval = 30.0;     ///< with Auto, time between lines when not on a terminal [s]
   std::string label = "granule";  ///< prefix of each line
   std::ostream* stream = nullptr; ///< output (default std::cerr)
 };
@@ -46,7 +49,8 @@ class ProgressReporter {
       : opt_(std::move(options)), out_(opt_.stream ? opt_.stream : &std::cerr), start_(Clock::now()),
         last_check_(start_), last_print_(start_) {
     terminal_ = stderr_is_terminal() && out_ == &std::cerr;
-    enabled_ = opt_.mode == ProgressMode::On || (opt_.mode == ProgressMode::Auto && terminal_);
+    enabled_ = opt_.mode == ProgressMode::On || (opt_.mode == ProgressMode::Auto && out_ == &std::cerr);
+    interval_ = opt_.mode == ProgressMode::Auto && !terminal_ ? opt_.log_interval : opt_.interval;
     if (!enabled_) next_check_ = UINT64_MAX;
   }
 
@@ -123,7 +127,7 @@ class ProgressReporter {
     last_check_ = now;
     last_check_step_ = step;
     next_check_ = step + stride_;
-    if (seconds(now - last_print_) < opt_.interval && printed_) return;
+    if (seconds(now - last_print_) < interval_ && printed_) return;
     print(step, time, now);
   }
 
@@ -160,6 +164,7 @@ class ProgressReporter {
   ProgressOptions opt_;
   std::ostream* out_;
   bool terminal_ = false;
+  double interval_ = 0.5;
   bool enabled_ = false;
   bool printed_ = false;
   bool finished_ = false;
