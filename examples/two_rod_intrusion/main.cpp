@@ -18,7 +18,7 @@
 
 #include <granule/io/csv.hpp>
 
-#include "scene.hpp"
+#include "study.hpp"
 
 namespace tr = granule::examples::two_rod;
 using granule::io::CsvColumn;
@@ -37,6 +37,11 @@ struct Options {
   std::uint64_t vtk_every = 0;
   bool quiet = false;
   bool paper = false;
+  std::string study;                 // tag of the paper-scale study ("" : a single sweep)
+  std::vector<double> seeds{1, 2, 3};  // beds of the study
+  std::string results;               // where the study's result files go
+  std::vector<double> field_gaps{0, 2, 3, 4, 6, 15};  // s/d with strain-rate maps (first bed)
+  bool aggregate_only = false;       // study: summarise the result files, run nothing
 };
 
 // Quick mode: d = 4 mm (a particle size of the paper's sweep, appendix A.1), small box,
@@ -60,10 +65,7 @@ void set_quick(Options& o) {
 void set_paper(Options& o) {
   o.bed = tr::BedParams{};
   o.bed.diameter = 2e-3;
-  o.bed.dt = 5e-6;
-  // 5e-6 s is 0.31 x the Rayleigh time of a 2 mm grain (0.2 is the engine's default limit);
-  // it is the paper's value and resolves a 1 m/s Hertz collision with ~40 steps (README.md).
-  o.bed.allow_large_time_step = true;
+  o.bed.dt = 5e-6;  // 0.062 x the Rayleigh time of a 2 mm grain of 1100 kg/m^3
   o.bed.length_x = 0.25;
   o.bed.length_y = 0.25;
   o.bed.fill_height = 0.10;
@@ -73,6 +75,29 @@ void set_paper(Options& o) {
   o.rod.length = 5e-2;
   o.rod.depth = 0.08;
   o.gaps = {0, 1, 2, 3, 4, 5, 6, 8, 10, 12, 15, 20};
+}
+
+// Study mode (issue 25): the paper's grain scale and every dimensionless group of table I --
+// d = 2 mm, rho = 1100 kg/m^3 as the grains' density (README: why), E, nu, e, mu, dt = 5e-6 s,
+// rods 5 mm x 5 cm at 1 m/s to 8 cm, a 10 cm deep bed at phi ~ 0.62 -- in a box cut to
+// 9 x 9 cm (the box-size check of the README), on an ensemble of independently poured beds.
+// The beds are poured with friction 0.1 (README: that reaches phi = 0.62) at 1.5e-5 s (0.19 of
+// the Rayleigh time; the settled bed is static and the intrusions run at 5e-6 s).
+void set_study(Options& o) {
+  o.bed = tr::BedParams{};
+  o.bed.diameter = 2e-3;
+  o.bed.dt = 5e-6;
+  o.bed.pour_dt = 1.5e-5;
+  o.bed.pour_friction = 0.1;
+  o.bed.length_x = 0.09;
+  o.bed.length_y = 0.09;
+  o.bed.fill_height = 0.10;
+  o.bed.max_settle_time = 3.0;
+  o.rod = tr::RodParams{};
+  o.rod.width = 5e-3;
+  o.rod.length = 5e-2;
+  o.rod.depth = 0.08;
+  o.gaps = {0, 1, 2, 3, 4, 5, 6, 8, 11, 15};
 }
 
 void usage() {
@@ -91,6 +116,17 @@ modes
   --paper                paper 000 table I: d = 2 mm, 25 x 25 cm box filled to 10 cm,
                          depth 8 cm, dt = 5e-6 s, s/d = 0..20 (~9e5 grains: days of CPU)
                          (given first, later options override its values)
+  --study TAG            the paper-scale study: table I in a 9 x 9 cm box filled to 10 cm,
+                         beds poured to phi ~ 0.62, s/d = 0,1,2,3,4,5,6,8,11,15 and a single
+                         rod on every bed of --seeds; one result file per case under
+                         --results (a rerun skips the cases done), then W(s/d) over the beds
+                         (later options override its values; see README.md)
+  --seeds a,b,...        beds (pouring seeds) of the study                 (default 1,2,3)
+  --aggregate-only       study: write the summaries from the result files already there
+  --results DIR          the study's result directory        (default OUT/results/TAG)
+  --density RHO          grain density [kg/m^3]                        (default 1100)
+  --pour-mu MU           friction while the bed is poured [-]         (default: --mu)
+  --pour-dt DT           time step while the bed is poured [s]        (default: --dt)
 options (units in brackets)
   --d D                  particle diameter [m]
   --width D              rod width or diameter [m]                     (default 0.005)
@@ -141,6 +177,8 @@ Options parse(int argc, char** argv) {
     if (std::string(argv[i]) == "--paper") {
       set_paper(o);
       o.paper = true;
+    } else if (std::string(argv[i]) == "--study") {
+      set_study(o);
     }
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -152,6 +190,20 @@ Options parse(int argc, char** argv) {
       usage();
       std::exit(0);
     } else if (a == "--paper") {
+    } else if (a == "--study") {
+      o.study = value();
+      if (o.study.empty() || o.study.find_first_of("/\\ ") != std::string::npos)
+        throw granule::InvalidParameter("--study expects a tag without '/', '\\' or spaces, got '" + o.study + "'");
+    } else if (a == "--aggregate-only") {
+      o.aggregate_only = true;
+    } else if (a == "--seeds") {
+      o.seeds = parse_list(value());
+    } else if (a == "--results") {
+      o.results = value();
+    } else if (a == "--density") {
+      o.bed.density = number(a, value());
+    } else if (a == "--pour-dt") {
+      o.bed.pour_dt = number(a, value());
     } else if (a == "--d") {
       o.bed.diameter = number(a, value());
     } else if (a == "--width") {
@@ -175,6 +227,8 @@ Options parse(int argc, char** argv) {
       o.rod.speed = number(a, value());
     } else if (a == "--mu") {
       o.bed.friction = number(a, value());
+    } else if (a == "--pour-mu") {
+      o.bed.pour_friction = number(a, value());
     } else if (a == "--dt") {
       o.bed.dt = number(a, value());
     } else if (a == "--box") {
@@ -204,6 +258,8 @@ Options parse(int argc, char** argv) {
   if (o.gaps.empty()) throw granule::InvalidParameter("--gap-list is empty");
   for (double g : o.gaps)
     if (!(g >= 0.0)) throw granule::InvalidParameter("gaps s/d must be >= 0");
+  for (double k : o.seeds)
+    if (!(k >= 1.0 && k == std::floor(k))) throw granule::InvalidParameter("--seeds expects whole numbers >= 1");
   if (o.threads < 1) throw granule::InvalidParameter("--threads must be >= 1");
   o.bed.validate();
   o.rod.validate(o.bed);
@@ -252,6 +308,175 @@ void write_half(const std::filesystem::path& dir, const std::string& tag, const 
   }
 }
 
+// Binned F(z): the mean force in depth bins of `bin` from 0 to z_f (the raw record has one
+// sample per step, 16 000 per run; the bins keep the committed files small).
+void write_force_binned(const std::filesystem::path& file, const tr::RunResult& r, double z_f, double bin) {
+  const auto n = static_cast<std::size_t>(std::llround(z_f / bin));
+  std::vector<double> sum(n, 0.0);
+  std::vector<int> cnt(n, 0);
+  for (const auto& q : r.samples) {
+    if (q.depth < 0.0 || q.depth >= z_f) continue;
+    const auto k = std::min(n - 1, static_cast<std::size_t>(q.depth / bin));
+    sum[k] += q.force;
+    ++cnt[k];
+  }
+  CsvWriter w(file, {{"depth", "m"}, {"force_z", "N"}}, {false, false});
+  for (std::size_t k = 0; k < n; ++k)
+    if (cnt[k] > 0) w.write_row({(k + 0.5) * bin, sum[k] / cnt[k]});
+}
+
+// The paper-scale study: every (bed, gap) case in gap-major order, so that each finished gap
+// has its whole ensemble; a case whose result file exists is read back instead of run.
+int run_study(Options o) {
+  namespace fs = std::filesystem;
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&]() { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  const fs::path out = o.out;
+  const fs::path results = o.results.empty() ? out / "results" / o.study : fs::path(o.results);
+  fs::create_directories(results / "runs");
+  const double d = o.bed.diameter;
+  const std::string shape = tr::shape_name(o.rod.shape);
+  auto log = [&](const std::string& s) {
+    if (!o.quiet) std::cerr << "[two_rod study " << o.study << " " << static_cast<int>(elapsed()) << " s] " << s << "\n";
+  };
+  std::cout << "two_rod_intrusion study '" << o.study << "': d = " << d << " m, rho = " << o.bed.density
+            << " kg/m^3, rods " << shape << " " << o.rod.width << " x " << o.rod.length << " m, depth " << o.rod.depth
+            << " m, box " << o.bed.length_x << " x " << o.bed.length_y << " m filled to " << o.bed.fill_height
+            << " m, dt = " << o.bed.dt << " s, beds poured with mu = " << o.bed.friction_while_pouring()
+            << " at dt = " << o.bed.dt_while_pouring() << " s; results in " << fs::absolute(results).lexically_normal().string()
+            << std::endl;
+  struct Case { int seed; double gap; };
+  std::vector<Case> todo;
+  std::vector<double> order;
+  if (o.single) order.push_back(-1.0);
+  order.insert(order.end(), o.gaps.begin(), o.gaps.end());
+  for (double g : order)
+    for (double k : o.seeds) todo.push_back({static_cast<int>(k), g});
+  std::vector<tr::CaseResult> done;
+  std::size_t ran = 0, skipped = 0;
+  double particle_steps_done = 0.0, seconds_running = 0.0;
+  for (std::size_t i = 0; i < todo.size(); ++i) {
+    const auto [seed, g] = todo[i];
+    const std::string stem = tr::case_stem(shape, seed, g);
+    const fs::path file = results / "runs" / (stem + ".csv");
+    if (auto c = tr::read_case(file)) {
+      done.push_back(*c);
+      ++skipped;
+      continue;
+    }
+    if (o.aggregate_only) continue;
+    tr::BedParams bed = o.bed;
+    bed.seed = static_cast<std::uint64_t>(seed);
+    tr::RunOptions ro;
+    ro.analyse_half_depth = o.analysis;
+    ro.progress = o.quiet ? granule::io::ProgressMode::Off : granule::io::ProgressMode::Auto;
+    ro.label = stem;
+    const int rods = g < 0.0 ? 1 : 2;
+    const double gap = g < 0.0 ? 0.0 : g * d;
+    log("case " + std::to_string(i + 1) + "/" + std::to_string(todo.size()) + ": " + stem);
+    const tr::LoadedBed lb = tr::load_or_prepare_bed(bed, out, log);
+    const tr::RunResult r = tr::run_intrusion(bed, o.rod, rods, gap, out, ro, log);
+    tr::CaseResult c;
+    c.shape = shape;
+    c.seed = seed;
+    c.gap_over_d = g;
+    c.work = r.work;
+    c.body_work = r.body_work;
+    c.peak_force = r.peak_force;
+    c.slope = tr::force_slope(r.samples, 0.2 * o.rod.depth, o.rod.depth);
+    c.very_strong = static_cast<double>(r.half.very_strong);
+    c.contacts = static_cast<double>(r.half.contacts);
+    c.mean_fn = r.half.pdf.mean_fn;
+    c.particles = static_cast<double>(lb.info.particles);
+    c.packing = lb.info.packing_fraction;
+    c.surface = lb.info.surface;
+    c.wall_time = r.wall_seconds;
+    c.ns_per_particle_step = 1e9 * r.wall_seconds / (static_cast<double>(r.steps) * c.particles);
+    c.prov = tr::provenance_now();
+    // Side files first, the case file last: its presence marks the case as done.
+    write_force_binned(results / "runs" / ("force_" + stem + ".csv"), r, o.rod.depth, 1e-3);
+    if (o.analysis && r.half.done) {
+      const auto ys = tr::rod_centres_y(bed, o.rod, rods, gap);
+      const double ymid = 0.5 * (ys.front() + ys.back());
+      {
+        CsvWriter w(results / "runs" / ("velocity_" + stem + ".csv"),
+                    {{"y_minus_centre_over_d", ""}, {"v_y", "m/s"}, {"v_z", "m/s"}, {"count", ""}}, {false, false});
+        for (std::size_t k = 0; k < r.half.v_y.bins(); ++k)
+          w.write_row({(r.half.v_y.centre[k] - ymid) / d, r.half.v_y.mean[k], r.half.v_z.mean[k],
+                       static_cast<double>(r.half.v_y.count[k])});
+      }
+      const bool field = seed == static_cast<int>(o.seeds.front()) &&
+                         std::find(o.field_gaps.begin(), o.field_gaps.end(), g) != o.field_gaps.end();
+      if (field) {
+        fs::create_directories(results / "fields");
+        CsvWriter w(results / "fields" / ("strain_rate_" + stem + ".csv"),
+                    {{"y_minus_centre_over_d", ""}, {"z_minus_rod_bottom_over_d", ""}, {"strain_rate", "1/s"}},
+                    {false, false});
+        for (const auto& n : r.half.strain)
+          if (std::isfinite(n.strain_rate) && n.z - r.half.rod_bottom <= 6.0 * d)
+            w.write_row({(n.y - ymid) / d, (n.z - r.half.rod_bottom) / d, n.strain_rate});
+      }
+    }
+    tr::write_case(file, c);
+    done.push_back(c);
+    ++ran;
+    particle_steps_done += static_cast<double>(r.steps) * c.particles;
+    seconds_running += r.wall_seconds;
+    const double per_case = elapsed() / static_cast<double>(ran);
+    const std::size_t left = todo.size() - i - 1;
+    std::printf("%-24s W = %.5g J, very strong %g, %.0f s (%.1f ns/particle-step) | %zu/%zu done | ETA %s\n",
+                stem.c_str(), c.work, c.very_strong, c.wall_time, c.ns_per_particle_step, i + 1, todo.size(),
+                granule::io::ProgressReporter::format_duration(per_case * static_cast<double>(left)).c_str());
+    std::fflush(stdout);
+  }
+  // Aggregate over the beds.
+  const auto stats = tr::gap_stats(done, o.gaps);
+  const tr::PeakStats peak = tr::peak_stats(done, o.gaps);
+  const tr::Provenance prov = tr::provenance_now();
+  {
+    std::ostringstream t;
+    t << "shape,gap_over_d,beds,work_mean [J],work_se [J],work_over_two_single,very_strong_mean,very_strong_se,"
+         "slope_mean [N/m]\n";
+    for (const auto& st : stats) {
+      char buf[256];
+      std::snprintf(buf, sizeof(buf), "%s,%g,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", shape.c_str(), st.gap_over_d, st.beds,
+                    st.work_mean, st.work_se, st.work_mean / peak.single_two, st.very_strong_mean, st.very_strong_se,
+                    st.slope_mean);
+      t << buf;
+    }
+    tr::study_detail::write_atomically(results / ("work_vs_gap_" + shape + ".csv"), t.str());
+  }
+  {
+    std::ostringstream t;
+    std::string per_bed;
+    for (double g : peak.peak_per_bed) per_bed += (per_bed.empty() ? "" : " ") + tr::study_detail::num(g);
+    char buf[512];
+    std::snprintf(buf, sizeof(buf),
+                  "%s,%d,%g,%.4g,%g,%g,\"%s\",%.6g,%.6g,%.5g,%.5g,%.5g,%.6g,", shape.c_str(), peak.beds, peak.gap,
+                  peak.gap_parabola, peak.gap_lo, peak.gap_hi, per_bed.c_str(), peak.work, peak.plateau, peak.ratio,
+                  peak.ratio_lo, peak.ratio_hi, peak.single_two);
+    t << "shape,beds,peak_gap_over_d,peak_gap_parabola,peak_gap_p16,peak_gap_p84,peak_gap_per_bed,work_peak [J],"
+         "work_plateau [J],peak_over_plateau,peak_over_plateau_p16,peak_over_plateau_p84,two_single_work [J],commit,"
+         "date,machine\n"
+      << buf << tr::study_detail::quoted(prov.commit) << "," << tr::study_detail::quoted(prov.date) << ","
+      << tr::study_detail::quoted(prov.machine) << "\n";
+    tr::study_detail::write_atomically(results / ("peak_" + shape + ".csv"), t.str());
+  }
+  std::printf("\n%8s %5s %12s %12s %14s\n", "s/d", "beds", "W mean [J]", "W s.e. [J]", "very strong");
+  for (const auto& st : stats)
+    std::printf("%8g %5d %12.5g %12.3g %9.1f +- %.1f\n", st.gap_over_d, st.beds, st.work_mean, st.work_se,
+                st.very_strong_mean, st.very_strong_se);
+  std::printf("peak (%d complete beds): s/d = %g (parabola %.2f, bootstrap 16-84 %%: %g-%g), W* = %.4g J, "
+              "plateau (s/d >= 11) %.4g J, peak/plateau = %.3f (%.3f-%.3f), 2 W_single = %.4g J\n",
+              peak.beds, peak.gap, peak.gap_parabola, peak.gap_lo, peak.gap_hi, peak.work, peak.plateau, peak.ratio,
+              peak.ratio_lo, peak.ratio_hi, peak.single_two);
+  std::printf("%zu cases run, %zu read back; %.0f s of wall time\n", ran, skipped, elapsed());
+  if (seconds_running > 0.0)
+    std::printf("rate: %.1f ns per particle-step with %d threads\n", 1e9 * seconds_running / particle_steps_done,
+                o.threads);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -260,6 +485,7 @@ int main(int argc, char** argv) {
 #ifdef _OPENMP
     omp_set_num_threads(o.threads);
 #endif
+    if (!o.study.empty()) return run_study(o);
     const auto start = std::chrono::steady_clock::now();
     auto elapsed = [&]() { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
     const std::filesystem::path out = o.out;

@@ -19,6 +19,7 @@
 // Coordinates: x along the rods, y across them, z up; the bed fills the box [0, Lx] x [0, Ly]
 // x [0, H]; depth z is measured from the mean bed surface down to the rods' lowest point.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -45,6 +46,8 @@
 #include <granule/io/checkpoint.hpp>
 #include <granule/io/progress.hpp>
 #include <granule/io/vtk.hpp>
+#include <granule/analysis/bin_grid.hpp>
+#include <granule/analysis/packing.hpp>
 #include <granule/scene/settle.hpp>
 
 namespace granule::examples::two_rod {
@@ -68,7 +71,13 @@ struct BedParams {
   double poisson_ratio = 0.3;      ///< nu [-]
   double restitution = 0.2;        ///< e [-]
   double friction = 0.5;           ///< mu [-] (particle-particle and particle-wall)
+  /// Friction while the grains fall and settle [-] (negative: `friction`). A lower value packs the
+  /// bed denser (the standard way to reach a target packing, here 000's phi = 0.62); the
+  /// settled bed is then an equilibrium for `friction` too (all forces normal, no sliding).
+  double pour_friction = -1.0;
   double dt = 2.5e-5;              ///< time step [s]
+  double pour_dt = -1.0;           ///< time step while pouring [s] (negative: dt); the settled
+                                   ///< bed is static, so the intrusions' dt is restored after it
   double gravity = 9.81;           ///< g [m/s^2], along -z
   double length_x = 0.09;          ///< container length along the rods [m]
   double length_y = 0.10;          ///< container width across the rods [m]
@@ -83,7 +92,13 @@ struct BedParams {
 
   /// Particle mass m [kg].
   double particle_mass() const { return density * std::acos(-1.0) / 6.0 * diameter * diameter * diameter; }
-  /// Height of the container (and its lid) [m]: room for the poured column and for splashes.
+  /// Friction used while pouring [-].
+  double friction_while_pouring() const { return pour_friction < 0.0 ? friction : pour_friction; }
+  /// Time step used while pouring [s].
+  double dt_while_pouring() const { return pour_dt <= 0.0 ? dt : pour_dt; }
+  /// Grains per lattice row along x and y, and lattice layers, of the initial loose column.
+  std::array<int, 3> lattice_counts() const;
+  /// Height of the container (and its lid) [m]: room for the loose column and for splashes.
   double container_height() const;
   /// Hash of every field that changes the bed (FNV-1a over their bytes).
   std::uint64_t key() const;
@@ -172,9 +187,21 @@ struct RunResult {
 
 // ---- implementation ---------------------------------------------------------------------------
 
+inline std::array<int, 3> BedParams::lattice_counts() const {
+  // Grains for the fill height at a packing fraction of 0.64 (an upper bound of a random
+  // pour), plus 8 % to trim, on a cubic lattice of spacing a inside the box.
+  const double a = lattice_spacing * diameter;
+  const double vp = std::acos(-1.0) / 6.0 * diameter * diameter * diameter;
+  const double needed = 1.08 * 0.64 * length_x * length_y * fill_height / vp;
+  const int nx = static_cast<int>(std::floor((length_x - diameter) / a)) + 1;
+  const int ny = static_cast<int>(std::floor((length_y - diameter) / a)) + 1;
+  const int layers = static_cast<int>(std::ceil(needed / (static_cast<double>(nx) * ny)));
+  return {nx, ny, layers};
+}
+
 inline double BedParams::container_height() const {
-  const double column = fill_height * 0.6 / (std::acos(-1.0) / 6.0) * std::pow(lattice_spacing, 3) * 1.1;
-  return std::max(column + diameter, fill_height + 0.06);
+  const double column = lattice_counts()[2] * lattice_spacing * diameter + diameter;
+  return std::max(column + 2.0 * diameter, fill_height + 0.06);
 }
 
 inline void BedParams::validate() const {
@@ -185,7 +212,10 @@ inline void BedParams::validate() const {
   require(poisson_ratio >= 0.0 && poisson_ratio < 0.5, w, "poisson_ratio", poisson_ratio, "[0, 0.5)");
   require(restitution > 0.0 && restitution <= 1.0, w, "restitution", restitution, "(0, 1]");
   require_non_negative(friction, w, "friction");
+  require(std::isfinite(pour_friction), w, "pour_friction", pour_friction,
+          "[0, inf), or negative for the same as friction");
   require_positive(dt, w, "dt");
+  require_finite(pour_dt, w, "pour_dt");
   require_non_negative(gravity, w, "gravity");
   require(length_x >= 4.0 * diameter, w, "length_x", length_x, "[4 d, inf) m");
   require(length_y >= 4.0 * diameter, w, "length_y", length_y, "[4 d, inf) m");
@@ -207,11 +237,11 @@ inline std::uint64_t BedParams::key() const {
       h *= 1099511628211ull;
     }
   };
-  const char tag[] = "two_rod_bed_v1";
+  const char tag[] = "two_rod_bed_v2";
   mix(tag, sizeof(tag));
-  const double v[] = {diameter, density, youngs_modulus, poisson_ratio, restitution, friction, dt, gravity,
+  const double v[] = {diameter, density, youngs_modulus, poisson_ratio, restitution, friction_while_pouring(), dt, gravity,
                       length_x, length_y, fill_height, lattice_spacing, jitter, settle_ke, zero_interval,
-                      max_settle_time};
+                      max_settle_time, dt_while_pouring()};
   mix(v, sizeof(v));
   mix(&seed, sizeof(seed));
   const std::uint8_t large = allow_large_time_step ? 1 : 0;
@@ -237,15 +267,16 @@ inline void RodParams::validate(const BedParams& bed) const {
   require_non_negative(clearance, w, "clearance");
 }
 
-/// Particle material of the bed (also used for the rods and the container).
-inline Material bed_material(const BedParams& p) {
+/// Particle material of the bed (also used for the rods and the container); `pouring` gives it
+/// the friction used while the bed is poured.
+inline Material bed_material(const BedParams& p, bool pouring = false) {
   Material m;
   m.name = "grain";
   m.youngs_modulus = p.youngs_modulus;
   m.poisson_ratio = p.poisson_ratio;
   m.density = p.density;
   m.restitution = p.restitution;
-  m.friction = p.friction;
+  m.friction = pouring ? p.friction_while_pouring() : p.friction;
   return m;
 }
 
@@ -257,7 +288,8 @@ struct SceneMaterials {
 
 /// A simulation with the bed's materials and container and no particles: the common start of
 /// the pouring and of every intrusion (checkpoints need the same static set-up on both sides).
-inline std::unique_ptr<Sim> make_bed_simulation(const BedParams& p, SceneMaterials* mats = nullptr) {
+inline std::unique_ptr<Sim> make_bed_simulation(const BedParams& p, SceneMaterials* mats = nullptr,
+                                                bool pouring = false) {
   p.validate();
   SimulationConfig<Dim3> cfg;
   const double h = p.container_height();
@@ -268,7 +300,7 @@ inline std::unique_ptr<Sim> make_bed_simulation(const BedParams& p, SceneMateria
   cfg.dt = p.dt;
   cfg.allow_large_time_step = p.allow_large_time_step;
   auto sim = std::make_unique<Sim>(cfg);
-  Material grain = bed_material(p);
+  Material grain = bed_material(p, pouring);
   SceneMaterials m;
   m.grain = sim->add_material(grain);
   Material wall = grain;
@@ -279,31 +311,35 @@ inline std::unique_ptr<Sim> make_bed_simulation(const BedParams& p, SceneMateria
   return sim;
 }
 
-/// Mean height of the free surface [m]: the bed's top view is cut into square columns of side
-/// 1.5 d; each column's top is its highest particle top (z + r); the columns are averaged over
-/// the central region (a margin of 2 d from the side walls).
+/// Mean height of the free surface [m]: the top view is cut into square columns of side 2 d
+/// away from the walls (a margin of 2 d); analysis::bed_height gives each column's height (the
+/// mean centre height of as many top grains as fit side by side on the column); the surface is
+/// the mean of the columns plus one radius.
 inline double bed_surface(const Sim& sim, const BedParams& p) {
-  const auto& pa = sim.particles();
-  const double w = 1.5 * p.diameter;
+  const double w = 2.0 * p.diameter;
   const double margin = 2.0 * p.diameter;
   const int nx = std::max(1, static_cast<int>((p.length_x - 2.0 * margin) / w));
   const int ny = std::max(1, static_cast<int>((p.length_y - 2.0 * margin) / w));
-  std::vector<double> top(static_cast<std::size_t>(nx * ny), -std::numeric_limits<double>::infinity());
-  for (std::size_t i = 0; i < pa.owned(); ++i) {
-    const int ix = static_cast<int>(std::floor((pa.x[i].x() - margin) / w));
-    const int iy = static_cast<int>(std::floor((pa.x[i].y() - margin) / w));
-    if (ix < 0 || iy < 0 || ix >= nx || iy >= ny) continue;
-    double& t = top[static_cast<std::size_t>(ix + nx * iy)];
-    t = std::max(t, pa.x[i].z() + pa.radius[i]);
-  }
+  const analysis::BinGrid<Dim3> columns(Vec(margin, margin, -p.diameter),
+                                        Vec(margin + nx * w, margin + ny * w, p.container_height()),
+                                        Dim3::IVec(nx, ny, 1));
   double s = 0.0;
   int n = 0;
-  for (double t : top)
-    if (std::isfinite(t)) {
-      s += t;
+  for (const auto& c : analysis::bed_height(sim.frame(), columns))
+    if (c.used > 0) {
+      s += c.height;
       ++n;
     }
-  return n > 0 ? s / n : std::numeric_limits<double>::quiet_NaN();
+  return n > 0 ? s / n + 0.5 * p.diameter : std::numeric_limits<double>::quiet_NaN();
+}
+
+/// Packing fraction of the bed's interior [-]: exact sphere-box volumes (analysis::packing_
+/// fraction) in the box 2 d from every wall, from 2 d above the floor to 2 d below the surface.
+inline double interior_packing(const Sim& sim, const BedParams& p, double surface) {
+  const double m = 2.0 * p.diameter;
+  const analysis::BinGrid<Dim3> box(Vec(m, m, m), Vec(p.length_x - m, p.length_y - m, surface - m),
+                                    Dim3::IVec(1, 1, 1));
+  return analysis::packing_fraction(sim.frame(), box)[0];
 }
 
 namespace detail {
@@ -317,30 +353,19 @@ inline double from_bits(std::uint64_t u) {
   std::memcpy(&v, &u, sizeof(v));
   return v;
 }
-inline void zero_velocities(Sim& sim) {
-  auto& pa = sim.particles();
-  for (std::size_t i = 0; i < pa.owned(); ++i) {
-    pa.v[i].setZero();
-    pa.omega[i].setZero();
-  }
-}
 }  // namespace detail
 
-/// Pours and settles a bed into `sim` (made by make_bed_simulation); returns its surface height.
-/// `log` receives one line per stage.
+/// Pours and settles a bed into `sim` (made by make_bed_simulation with pouring = true): a
+/// jittered loose cubic lattice with small random velocities falls under gravity, is settled by
+/// scene::settle (velocities zeroed every zero_interval until the mean kinetic energy per grain
+/// is below settle_ke m g d), trimmed to the fill height (scene::remove_above) and settled
+/// again. `log` receives one line per stage.
 inline BedInfo pour_bed(Sim& sim, const BedParams& p, std::uint32_t grain,
                         const std::function<void(const std::string&)>& log = {}) {
   const double d = p.diameter;
   const double r = 0.5 * d;
   const double a = p.lattice_spacing * d;
-  const double pi = std::acos(-1.0);
-  // Particles needed for the fill height at a packing fraction of about 0.6, plus 10 % to trim.
-  const double vp = pi / 6.0 * d * d * d;
-  const auto needed = static_cast<std::size_t>(1.1 * 0.6 * p.length_x * p.length_y * p.fill_height / vp);
-  const int nx = static_cast<int>(std::floor((p.length_x - d) / a)) + 1;
-  const int ny = static_cast<int>(std::floor((p.length_y - d) / a)) + 1;
-  const std::size_t per_layer = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
-  const auto layers = static_cast<int>((needed + per_layer - 1) / per_layer);
+  const auto [nx, ny, layers] = p.lattice_counts();
   const double x0 = 0.5 * (p.length_x - (nx - 1) * a);
   const double y0 = 0.5 * (p.length_y - (ny - 1) * a);
   std::mt19937_64 rng(p.seed);
@@ -357,47 +382,41 @@ inline BedInfo pour_bed(Sim& sim, const BedParams& p, std::uint32_t grain,
         sim.add_particle(x, r, grain, v);
       }
   if (log) log("pouring " + std::to_string(sim.particles().owned()) + " particles (" + std::to_string(layers) +
-               " layers of " + std::to_string(nx) + " x " + std::to_string(ny) + ")");
+               " layers of " + std::to_string(nx) + " x " + std::to_string(ny) + "), friction " +
+               std::to_string(p.friction_while_pouring()));
   const double m = p.particle_mass();
-  const double ke_quiet = p.settle_ke * m * p.gravity * d;
   BedInfo info;
   const double t0 = sim.time();
-  // Stage 1: free fall of the column (no damping) for the time the top layer needs to land.
-  const double column = layers * a;
+  sim.set_dt(p.dt_while_pouring());
+  // Free fall of the column (no damping) for the time its top layer needs to land.
   scene::SettleOptions fall;
-  fall.max_time = std::sqrt(2.0 * column / std::max(p.gravity, 1e-9)) + 0.02;
+  fall.max_time = std::sqrt(2.0 * layers * a / std::max(p.gravity, 1e-9)) + 0.02;
   fall.kinetic_energy_per_particle = 0.0;
   fall.check_interval = fall.max_time;
   scene::settle(sim, fall);
-  // Stage 2: settle, zeroing every velocity each zero_interval (KE is checked just before).
-  auto calm = [&]() {
-    const double start = sim.time();
-    scene::SettleResult r;
-    scene::SettleOptions o;
-    o.max_time = p.zero_interval > 0.0 ? p.zero_interval : p.max_settle_time;
-    o.check_interval = o.max_time;
-    o.kinetic_energy_per_particle = ke_quiet;
-    while (sim.time() - start < p.max_settle_time) {
-      r = scene::settle(sim, o);
-      if (r.settled) break;
-      detail::zero_velocities(sim);
-    }
-    return r;
-  };
-  auto res = calm();
+  scene::SettleOptions calm;
+  calm.max_time = p.max_settle_time;
+  calm.zero_velocity_interval = p.zero_interval;
+  calm.check_interval = p.zero_interval > 0.0 ? p.zero_interval : 5e-3;
+  calm.kinetic_energy_per_particle = p.settle_ke * m * p.gravity * d;
+  auto res = scene::settle(sim, calm);
   if (log) log("settled (stage 1) after " + std::to_string(sim.time() - t0) + " s, mean KE/(m g d) = " +
                std::to_string(res.kinetic_energy_per_particle / (m * p.gravity * d)));
-  // Trim to the fill height and settle again.
   const std::size_t removed = scene::remove_above(sim, 2, p.fill_height - r);
-  res = calm();
-  detail::zero_velocities(sim);
+  res = scene::settle(sim, calm);
+  if (!res.settled && log) log("warning: stage 2 did not reach the kinetic-energy criterion in max_settle_time");
+  for (std::size_t i = 0; i < sim.particles().owned(); ++i) {
+    sim.particles().v[i].setZero();
+    sim.particles().omega[i].setZero();
+  }
   info.settle_time = sim.time() - t0;
+  sim.set_dt(p.dt);
   info.particles = sim.particles().owned();
   info.surface = bed_surface(sim, p);
-  info.packing_fraction = static_cast<double>(info.particles) * vp / (p.length_x * p.length_y * info.surface);
+  info.packing_fraction = interior_packing(sim, p, info.surface);
   if (log) log("trimmed " + std::to_string(removed) + " particles; settled (stage 2), " +
                std::to_string(info.particles) + " particles, surface at " + std::to_string(info.surface) +
-               " m, packing fraction " + std::to_string(info.packing_fraction));
+               " m, interior packing fraction " + std::to_string(info.packing_fraction));
   return info;
 }
 
@@ -409,38 +428,43 @@ struct LoadedBed {
 };
 
 /// Loads the cached bed of `p` from `cache_dir`, or pours it (and writes the cache) when the
-/// file is missing or unreadable. The checkpoint's user section holds {key, surface bits,
-/// settle-time bits}; the file name already encodes the key, so a changed bed gets a new file.
+/// file is missing or unreadable. The bed is poured in a simulation whose grains have the
+/// pouring friction and read back into one with `p.friction` (a checkpoint holds the state,
+/// not the materials). The checkpoint's user section holds {key, surface bits, settle-time
+/// bits, packing bits}; the file name already encodes the key, so a changed bed gets a new file.
 inline LoadedBed load_or_prepare_bed(const BedParams& p, const std::filesystem::path& cache_dir,
                                      const std::function<void(const std::string&)>& log = {}) {
   LoadedBed out;
   const std::filesystem::path file = cache_dir / p.checkpoint_name();
-  const double vp = std::acos(-1.0) / 6.0 * std::pow(p.diameter, 3);
-  if (std::filesystem::exists(file)) {
+  auto read = [&]() -> bool {
     out.sim = make_bed_simulation(p, &out.materials);
+    const auto user = io::read_checkpoint(*out.sim, file.string());
+    if (user.size() != 4 || user[0] != p.key()) return false;
+    out.info.surface = detail::from_bits(user[1]);
+    out.info.settle_time = detail::from_bits(user[2]);
+    out.info.packing_fraction = detail::from_bits(user[3]);
+    out.info.particles = out.sim->particles().owned();
+    out.info.checkpoint = file;
+    return true;
+  };
+  if (std::filesystem::exists(file)) {
     try {
-      const auto user = io::read_checkpoint(*out.sim, file.string());
-      if (user.size() == 3 && user[0] == p.key()) {
-        out.info.surface = detail::from_bits(user[1]);
-        out.info.settle_time = detail::from_bits(user[2]);
-        out.info.particles = out.sim->particles().owned();
-        out.info.packing_fraction =
-            static_cast<double>(out.info.particles) * vp / (p.length_x * p.length_y * out.info.surface);
-        out.info.checkpoint = file;
-        return out;
-      }
+      if (read()) return out;
       if (log) log("cached bed " + file.string() + " has another key; rebuilding it");
     } catch (const IoError& e) {
       if (log) log(std::string("cannot use the cached bed (") + e.what() + "); rebuilding it");
     }
   }
-  out.sim = make_bed_simulation(p, &out.materials);
-  out.info = pour_bed(*out.sim, p, out.materials.grain, log);
-  out.info.built = true;
-  out.info.checkpoint = file;
+  SceneMaterials pm;
+  auto pour = make_bed_simulation(p, &pm, true);
+  const BedInfo info = pour_bed(*pour, p, pm.grain, log);
   std::filesystem::create_directories(cache_dir);
-  io::write_checkpoint(*out.sim, file.string(),
-                       {p.key(), detail::bits(out.info.surface), detail::bits(out.info.settle_time)});
+  io::write_checkpoint(*pour, file.string(),
+                       {p.key(), detail::bits(info.surface), detail::bits(info.settle_time),
+                        detail::bits(info.packing_fraction)});
+  pour.reset();
+  if (!read()) throw IoError("two_rod: the bed just written to " + file.string() + " cannot be read back");
+  out.info.built = true;
   return out;
 }
 
