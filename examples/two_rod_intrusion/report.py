@@ -1,0 +1,334 @@
+#!/usr/bin/env python3
+"""README tables and figures of the paper-scale two-rod study, from its result files.
+
+usage: report.py [--check] [--figures DIR]
+
+Reads examples/two_rod_intrusion/results/<tag>/ (written by `two_rod_intrusion --study <tag>`,
+see run_study.sh): runs/<case>.csv (one intrusion each, with commit, date and machine),
+work_vs_gap_<shape>.csv and peak_<shape>.csv (the program's summary over the beds).
+
+Rewrites the blocks of README.md between "<!-- BEGIN GENERATED: name -->" and
+"<!-- END GENERATED: name -->", and draws the figures into --figures (default
+out/two_rod_study/figures; figures are not committed). With --check nothing is written: the
+exit code is 1 if README.md differs from what the results give (the test of tests/CMakeLists.txt).
+
+The paper's values are those its text states (abstract, section II, figure captions); our copy
+of the paper has no figures to digitise, so the plots mark the stated values and ranges.
+"""
+import csv
+import glob
+import os
+import re
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+RESULTS = os.path.join(HERE, "results")
+README = os.path.join(HERE, "README.md")
+
+# Paper 000 (Pravin et al. 2020), as stated in its text.
+PAPER = {
+    "peak_gap": 3.0,            # abstract, sections II-VI: peak of W at s/d ~ 3
+    "peak_gap_range": (2.0, 4.0),  # fig. 2 caption: peak between 2 and 4 particle diameters
+    "peak_over_plateau": 1.25,  # abstract: up to 25 % greater than W at large separation (> 11 d)
+    "w_star_cylinder": 0.55,    # fig. 2 caption: W* = 0.55 J for the simulations (cylinders)
+    "square_over_cylinder": 4.0 / 3.141592653589793,  # fig. 3: surface-area ratio 4/pi at large gaps
+    "packing": 0.62,            # table I
+}
+
+
+def read_rows(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    names = [re.sub(r"\s*\[.*\]$", "", h) for h in rows[0]]
+    out = []
+    for r in rows[1:]:
+        d = {}
+        for n, v in zip(names, r):
+            try:
+                d[n] = float(v)
+            except ValueError:
+                d[n] = v
+        out.append(d)
+    return out
+
+
+def load(tag):
+    """Everything of one study tag: cases, per-gap summary, peak summary (or None)."""
+    base = os.path.join(RESULTS, tag)
+    if not os.path.isdir(base):
+        return None
+    cases = []
+    for f in sorted(glob.glob(os.path.join(base, "runs", "*.csv"))):
+        name = os.path.basename(f)
+        if name.startswith(("force_", "velocity_")):
+            continue
+        cases += read_rows(f)
+    s = {"tag": tag, "cases": cases, "gaps": {}, "peak": {}}
+    for f in glob.glob(os.path.join(base, "work_vs_gap_*.csv")):
+        shape = os.path.basename(f)[len("work_vs_gap_"):-4]
+        s["gaps"][shape] = read_rows(f)
+    for f in glob.glob(os.path.join(base, "peak_*.csv")):
+        shape = os.path.basename(f)[len("peak_"):-4]
+        s["peak"][shape] = read_rows(f)[0]
+    return s
+
+
+def fmt(v, digits=4):
+    if isinstance(v, str):
+        return v
+    if v != v:  # NaN
+        return "–"
+    return f"{v:.{digits}g}"
+
+
+def table_work(s, shape):
+    rows = s["gaps"].get(shape, [])
+    peak = s["peak"].get(shape, {})
+    if not rows:
+        return "_No results yet: run `examples/two_rod_intrusion/run_study.sh`._\n"
+    out = ["| s/d | beds | W [J] (mean ± s.e.) | W / 2 W_single | very strong forces (f_n > 6⟨f_n⟩) | dF/dz [N/m] |",
+           "|---|---|---|---|---|---|"]
+    for r in rows:
+        out.append(f"| {fmt(r['gap_over_d'])} | {int(r['beds'])} | {fmt(r['work_mean'])} ± {fmt(r['work_se'], 2)} | "
+                   f"{fmt(r['work_over_two_single'], 3)} | {fmt(r['very_strong_mean'])} ± {fmt(r['very_strong_se'], 2)} | "
+                   f"{fmt(r['slope_mean'], 3)} |")
+    if peak:
+        out.append("")
+        out.append(f"Peak over {int(peak['beds'])} complete bed(s): s/d = {fmt(peak['peak_gap_over_d'])} "
+                   f"(parabola through the peak and its neighbours: {fmt(peak['peak_gap_parabola'], 3)}; "
+                   f"bootstrap over beds, 16–84 %: {fmt(peak['peak_gap_p16'])}–{fmt(peak['peak_gap_p84'])}; "
+                   f"per bed: {peak['peak_gap_per_bed']}), W* = {fmt(peak['work_peak'])} J, "
+                   f"peak / plateau (mean W at s/d ≥ 11) = {fmt(peak['peak_over_plateau'], 3)} "
+                   f"({fmt(peak['peak_over_plateau_p16'], 3)}–{fmt(peak['peak_over_plateau_p84'], 3)}), "
+                   f"2 W_single = {fmt(peak['two_single_work'])} J.")
+    return "\n".join(out) + "\n"
+
+
+def table_cost(studies):
+    out = ["| study | cases done | grains | packing φ (interior) | wall time per case [s] | ns per particle-step | CPU-hours (2 threads) | commits | dates (UTC) | machine |",
+           "|---|---|---|---|---|---|---|---|---|---|"]
+    for s in studies:
+        c = s["cases"]
+        if not c:
+            continue
+        n = len(c)
+        grains = sorted({int(x["particles"]) for x in c})
+        phis = sorted({round(x["packing_fraction"], 4) for x in c})
+        wall = [x["wall_time"] for x in c]
+        ns = [x["ns_per_particle_step"] for x in c]
+        commits = sorted({x["commit"] for x in c})
+        dates = sorted(x["date"] for x in c)
+        machines = sorted({x["machine"] for x in c})
+        out.append(f"| {s['tag']} | {n} | {', '.join(map(str, grains))} | {', '.join(map(str, phis))} | "
+                   f"{min(wall):.0f}–{max(wall):.0f} | {min(ns):.0f}–{max(ns):.0f} | {2 * sum(wall) / 3600:.2f} | "
+                   f"{', '.join(commits)} | {dates[0][:16]} – {dates[-1][:16]} | {'; '.join(machines)} |")
+    sq = next((s for s in studies if s["tag"] == "square" and s["cases"]), None)
+    if sq:
+        c = sq["cases"]
+        wall = sum(x["wall_time"] for x in c) / len(c)
+        ns = sum(x["ns_per_particle_step"] for x in c) / len(c)
+        grains = sum(x["particles"] for x in c) / len(c)
+        scale = (0.25 * 0.25) / (0.09 * 0.09)  # the paper's 25 x 25 cm box over ours, same fill
+        out.append("")
+        out.append(f"Full paper box (25 × 25 × 10 cm, ≈ {grains * scale / 1e3:.0f}k grains) at the measured rate "
+                   f"({ns:.0f} ns per particle-step with 2 threads): ≈ {2 * wall * scale / 3600:.1f} CPU-hours per "
+                   f"intrusion, ≈ {33 * 2 * wall * scale / 3600:.0f} CPU-hours for the 33 square cases (3 beds × 10 gaps "
+                   f"+ single rod), pours not counted.")
+    return "\n".join(out) + "\n"
+
+
+def table_paper(studies):
+    by = {s["tag"]: s for s in studies}
+    sq = by.get("square", {"peak": {}, "gaps": {}})
+    cy = by.get("cylinder", {"peak": {}, "gaps": {}})
+    p = sq["peak"].get("square", {})
+    pc = cy["peak"].get("cylinder", {})
+    rows = ["| quantity | paper 000 | ours (paper scale) |", "|---|---|---|"]
+    if p:
+        rows.append(f"| (s/d) of the peak, square rods | ≈ 3 (2–4) | {fmt(p['peak_gap_over_d'])} "
+                    f"(bootstrap 16–84 %: {fmt(p['peak_gap_p16'])}–{fmt(p['peak_gap_p84'])}, {int(p['beds'])} beds) |")
+        rows.append(f"| peak / plateau (s/d ≥ 11), square rods | ≈ 1.25 | {fmt(p['peak_over_plateau'], 3)} "
+                    f"({fmt(p['peak_over_plateau_p16'], 3)}–{fmt(p['peak_over_plateau_p84'], 3)}) |")
+    if pc:
+        rows.append(f"| (s/d) of the peak, cylinders | ≈ 2–3 (figs. 2C, 3) | {fmt(pc['peak_gap_over_d'])} ({int(pc['beds'])} bed) |")
+        rows.append(f"| W*, cylinders | 0.55 J | {fmt(pc['work_peak'], 3)} J |")
+    rho = by.get("rho1774")
+    if rho and rho["gaps"].get("cylinder"):
+        w = max(r["work_mean"] for r in rho["gaps"]["cylinder"])
+        rows.append(f"| W* of cylinders with grains of 1774 kg/m³ (1100 read as bulk density) | 0.55 J | {fmt(w, 3)} J |")
+    if sq["gaps"].get("square") and cy["gaps"].get("cylinder"):
+        ws = {r["gap_over_d"]: r["work_mean"] for r in sq["gaps"]["square"]}
+        wc = {r["gap_over_d"]: r["work_mean"] for r in cy["gaps"]["cylinder"]}
+        common = [g for g in sorted(ws) if g in wc]
+        if common:
+            ratios = ", ".join(f"{fmt(ws[g] / wc[g], 3)} (s/d = {fmt(g)})" for g in common)
+            rows.append(f"| W_square / W_cylinder | ≈ 4/π = 1.27 at s/d = 0 and s/d > 5 | {ratios} |")
+    phis = [c["packing_fraction"] for s in studies for c in s["cases"] if s["tag"] in ("square", "cylinder")]
+    if phis:
+        rows.append(f"| packing fraction | 0.62 | {fmt(min(phis), 3)}–{fmt(max(phis), 3)} (interior, 2 d from walls and surface) |")
+    if len(rows) == 2:
+        return "_No results yet: run `examples/two_rod_intrusion/run_study.sh`._\n"
+    return "\n".join(rows) + "\n"
+
+
+def table_box(studies):
+    by = {s["tag"]: s for s in studies}
+    small, big = by.get("square"), by.get("box13")
+    if not small or not big or not big["gaps"].get("square"):
+        return "_Not run yet (`run_study.sh box13`)._\n"
+    ws = {r["gap_over_d"]: r for r in small["gaps"].get("square", [])}
+    rows = ["| s/d | W, 9 × 9 cm [J] | W, 13 × 13 cm [J] | difference | combined s.e. |", "|---|---|---|---|---|"]
+    for r in big["gaps"]["square"]:
+        g = r["gap_over_d"]
+        if g not in ws:
+            continue
+        a, b = ws[g], r
+        diff = b["work_mean"] - a["work_mean"]
+        se = (a["work_se"] ** 2 + b["work_se"] ** 2) ** 0.5
+        rows.append(f"| {fmt(g)} | {fmt(a['work_mean'])} ± {fmt(a['work_se'], 2)} ({int(a['beds'])} beds) | "
+                    f"{fmt(b['work_mean'])} ± {fmt(b['work_se'], 2)} ({int(b['beds'])} beds) | "
+                    f"{100 * diff / a['work_mean']:+.1f} % | {100 * se / a['work_mean']:.1f} % |")
+    return "\n".join(rows) + "\n"
+
+
+def blocks(studies):
+    by = {s["tag"]: s for s in studies}
+    sq = by.get("square", {"gaps": {}, "peak": {}})
+    cy = by.get("cylinder", {"gaps": {}, "peak": {}})
+    return {
+        "paper-vs-ours": table_paper(studies),
+        "work-square": table_work(sq, "square"),
+        "work-cylinder": table_work(cy, "cylinder"),
+        "box-check": table_box(studies),
+        "cost": table_cost(studies),
+    }
+
+
+def render(text, blk):
+    for name, body in blk.items():
+        pat = re.compile(r"(<!-- BEGIN GENERATED: %s -->\n).*?(<!-- END GENERATED: %s -->)" % (re.escape(name), re.escape(name)),
+                         re.S)
+        if not pat.search(text):
+            raise SystemExit(f"report.py: README.md has no block '{name}'")
+        text = pat.sub(lambda m: m.group(1) + body + m.group(2), text)
+    return text
+
+
+def figures(studies, outdir):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    os.makedirs(outdir, exist_ok=True)
+    by = {s["tag"]: s for s in studies}
+    # W(s/d) with error bars, the paper's peak band and plateau ratio, very strong forces.
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    ax2 = ax.twinx()
+    for tag, shape, col in (("square", "square", "C0"), ("cylinder", "cylinder", "C1")):
+        rows = by.get(tag, {"gaps": {}})["gaps"].get(shape)
+        if not rows:
+            continue
+        g = np.array([r["gap_over_d"] for r in rows])
+        w = np.array([r["work_mean"] for r in rows])
+        e = np.array([r["work_se"] for r in rows])
+        e = np.where(np.isfinite(e), e, 0.0)
+        ax.errorbar(g, w, yerr=e, fmt="o-", color=col, capsize=3, label=f"W, {shape} ({int(max(r['beds'] for r in rows))} beds)")
+        vs = np.array([r["very_strong_mean"] for r in rows])
+        ax2.plot(g, vs, "s--", color=col, alpha=0.5, label=f"very strong forces, {shape}")
+        pk = by[tag]["peak"].get(shape)
+        if pk and np.isfinite(pk["work_plateau"]):
+            ax.axhline(PAPER["peak_over_plateau"] * pk["work_plateau"], color=col, ls=":", lw=1,
+                       label=f"paper: peak = 1.25 × our plateau ({shape})")
+    ax.axvspan(*PAPER["peak_gap_range"], color="0.85", zorder=0, label="paper: peak at s/d 2–4")
+    ax.set_xlabel("gap s/d")
+    ax.set_ylabel("W [J]")
+    ax2.set_ylabel("very strong forces at z = 4 cm")
+    h1, l1 = ax.get_legend_handles_labels()
+    h2, l2 = ax2.get_legend_handles_labels()
+    ax.legend(h1 + h2, l1 + l2, fontsize=7, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, "work_vs_gap.png"), dpi=130)
+    plt.close(fig)
+    # F(z), mean over beds, for a few gaps.
+    fig, ax = plt.subplots(figsize=(6, 4))
+    base = os.path.join(RESULTS, "square", "runs")
+    for g in (0, 3, 6, 15, "single"):
+        tag = f"s{g}" if g != "single" else "single"
+        files = sorted(glob.glob(os.path.join(base, f"force_square_bed*_{tag}.csv")))
+        if not files:
+            continue
+        data = [read_rows(f) for f in files]
+        z = np.array([r["depth"] for r in data[0]])
+        n = min(len(d) for d in data)
+        f = np.mean([[r["force_z"] for r in d[:n]] for d in data], axis=0)
+        ax.plot(100 * z[:n], f, label=f"{'single rod' if g == 'single' else f's/d = {g}'} ({len(files)} beds)")
+    ax.set_xlabel("depth z [cm]")
+    ax.set_ylabel("F [N]")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, "force_vs_depth.png"), dpi=130)
+    plt.close(fig)
+    # V_y, V_z below the rods (paper fig. 6), first bed.
+    fig, axs = plt.subplots(1, 2, figsize=(10, 3.8), sharex=True)
+    for g in (0, 2, 3, 4, 6):
+        f = os.path.join(base, f"velocity_square_bed1_s{g}.csv")
+        if not os.path.exists(f):
+            continue
+        r = read_rows(f)
+        y = np.array([x["y_minus_centre_over_d"] for x in r])
+        axs[0].plot(y, [x["v_y"] for x in r], label=f"s/d = {g}")
+        axs[1].plot(y, [x["v_z"] for x in r], label=f"s/d = {g}")
+    for a, t in zip(axs, ("V_y [m/s]", "V_z [m/s]")):
+        a.set_xlabel("y/d from the pair's centre")
+        a.set_ylabel(t)
+        a.set_xlim(-15, 15)
+        a.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, "velocity_profiles.png"), dpi=130)
+    plt.close(fig)
+    # Strain-rate maps (paper fig. 7), first bed.
+    files = sorted(glob.glob(os.path.join(RESULTS, "square", "fields", "strain_rate_square_bed1_s*.csv")),
+                   key=lambda p: float(re.search(r"_s([0-9.]+)\.csv$", p).group(1)))
+    if files:
+        fig, axs = plt.subplots(1, len(files), figsize=(3 * len(files), 3), squeeze=False)
+        for a, f in zip(axs[0], files):
+            r = read_rows(f)
+            y = np.array([x["y_minus_centre_over_d"] for x in r])
+            z = np.array([x["z_minus_rod_bottom_over_d"] for x in r])
+            e = np.array([x["strain_rate"] for x in r])
+            sc = a.scatter(y, z, c=e, s=4, cmap="viridis", vmin=0, vmax=np.nanpercentile(e, 98))
+            a.set_title(os.path.basename(f)[len("strain_rate_square_bed1_"):-4].replace("s", "s/d = "), fontsize=9)
+            a.set_xlabel("y/d")
+            a.set_xlim(-15, 15)
+        axs[0][0].set_ylabel("(z − rod bottom)/d")
+        fig.colorbar(sc, ax=axs[0].tolist(), label="|ε̇| [1/s]")
+        fig.savefig(os.path.join(outdir, "strain_rate.png"), dpi=130)
+        plt.close(fig)
+
+
+def main(argv):
+    check = "--check" in argv
+    outdir = os.path.join(HERE, "..", "..", "out", "two_rod_study", "figures")
+    if "--figures" in argv:
+        outdir = argv[argv.index("--figures") + 1]
+    studies = [s for s in (load(t) for t in ("square", "cylinder", "rho1774", "box13")) if s]
+    with open(README, encoding="utf-8") as f:
+        text = f.read()
+    new = render(text, blocks(studies))
+    if check:
+        if new != text:
+            print("report.py --check: README.md differs from the results; run examples/two_rod_intrusion/report.py")
+            return 1
+        print("report.py --check: README.md matches the results")
+        return 0
+    with open(README, "w", encoding="utf-8") as f:
+        f.write(new)
+    figures(studies, outdir)
+    print(f"README.md regenerated; figures in {os.path.normpath(outdir)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
