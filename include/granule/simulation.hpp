@@ -1071,17 +1071,44 @@ class Simulation {
     // layer): with layers handed out one at a time (dynamic) the particles' cache lines moved
     // between the cores at every phase, and two threads ran 1.1-1.4x one thread on a VM whose
     // cores are far apart (docs/performance.md, "Two threads").
+    // The ranges hold about equal work (pair entries and rows), not equal numbers of layers:
+    // the layers run along the domain's longest axis, and a bed in a tall box left the thread
+    // that got the layers above it idle (the two-rod study ran its pair loop on one thread).
+    // Which thread takes a layer does not change the result.
+    const auto& row_begin = list_.row_begin;
+    const auto& layer_begin = list_.layer_begin;
+    auto layer_work = [&](std::size_t l) -> std::uint64_t {
+      return std::uint64_t(row_begin[layer_begin[l + 1]] - row_begin[layer_begin[l]]) +
+             (layer_begin[l + 1] - layer_begin[l]);
+    };
     for (std::size_t colour = 0; colour < 3; ++colour) {
       const std::size_t count = nl > colour ? (nl - colour + 2) / 3 : 0;
-#pragma omp parallel for schedule(static) if (parallel && parallel_)
-      for (std::size_t t = 0; t < count; ++t) {
-        const std::size_t l = colour + 3 * t;
-        if (record) {
-          process_layer<true>(l);
-        } else if (kPackable && config_.packed_contacts) {
-          process_layer_packed(l);
-        } else {
-          process_layer<false>(l);
+#pragma omp parallel if (parallel && parallel_)
+      {
+#ifdef _OPENMP
+        const std::uint64_t thread = static_cast<std::uint64_t>(omp_get_thread_num());
+        const std::uint64_t threads = static_cast<std::uint64_t>(omp_get_num_threads());
+#else
+        const std::uint64_t thread = 0, threads = 1;
+#endif
+        std::uint64_t total = 0;
+        for (std::size_t t = 0; t < count; ++t) total += layer_work(colour + 3 * t);
+        // A layer goes to the thread whose share of the total holds the layer's midpoint.
+        std::uint64_t before = 0;
+        for (std::size_t t = 0; t < count; ++t) {
+          const std::size_t l = colour + 3 * t;
+          const std::uint64_t w = layer_work(l);
+          const std::uint64_t owner =
+              total == 0 ? 0 : std::min(threads - 1, (2 * before + w) * threads / (2 * total));
+          before += w;
+          if (owner != thread) continue;
+          if (record) {
+            process_layer<true>(l);
+          } else if (kPackable && config_.packed_contacts) {
+            process_layer_packed(l);
+          } else {
+            process_layer<false>(l);
+          }
         }
       }
     }
