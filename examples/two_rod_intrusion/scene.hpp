@@ -89,6 +89,8 @@ struct BedParams {
   double max_settle_time = 1.5;    ///< give up settling after this long (each stage) [s]
   std::uint64_t seed = 1;          ///< lattice jitter seed
   bool allow_large_time_step = false;  ///< accept dt > 0.2 Rayleigh time (paper's own dt)
+  double skin = -1.0;              ///< Verlet skin of the intrusions / d [-] (negative: the
+                                   ///< library's 0.1 d); not part of the bed's key
 
   /// Particle mass m [kg].
   double particle_mass() const { return density * std::acos(-1.0) / 6.0 * diameter * diameter * diameter; }
@@ -226,6 +228,7 @@ inline void BedParams::validate() const {
   require_positive(settle_ke, w, "settle_ke");
   require_non_negative(zero_interval, w, "zero_interval");
   require_positive(max_settle_time, w, "max_settle_time");
+  require(std::isfinite(skin) && skin <= 2.0, w, "skin", skin, "[0, 2] (/ d), or negative for the default");
 }
 
 inline std::uint64_t BedParams::key() const {
@@ -299,6 +302,7 @@ inline std::unique_ptr<Sim> make_bed_simulation(const BedParams& p, SceneMateria
   cfg.gravity = Vec(0.0, 0.0, -p.gravity);
   cfg.dt = p.dt;
   cfg.allow_large_time_step = p.allow_large_time_step;
+  if (!pouring && p.skin >= 0.0) cfg.skin = p.skin * p.diameter;
   auto sim = std::make_unique<Sim>(cfg);
   Material grain = bed_material(p, pouring);
   SceneMaterials m;
