@@ -3,7 +3,7 @@
 #   square     square rods, 3 beds, s/d = 0,1,2,3,4,5,6,8,11,15 and a single rod
 #   cylinder   cylindrical rods, 1 bed (the first square bed: same seed, same bed)
 #   rho1774    table I's 1100 kg/m^3 read as the bulk density: grains of 1100/0.62 kg/m^3,
-#              cylinders around the peak, for the paper's W* = 0.55 J
+#              cylinders at s/d = 2 and 3 (around its peak), for the paper's W* = 0.55 J
 #   box13      the box-size check: a 13 x 13 cm box, s/d = 3 and 15, 3 beds
 # Every case writes its own file under results/<tag>/runs/; a rerun skips the cases done, so the
 # script can be stopped and started again. Progress with an ETA goes to the log also off a
@@ -35,7 +35,7 @@ for tag in "${tags[@]}"; do
   case "$tag" in
     square) run square --seeds 1,2,3 ;;
     cylinder) run cylinder --shape cylinder --seeds 1 ;;
-    rho1774) run rho1774 --shape cylinder --seeds 1 --density 1774 --gap-list 2,3,4 --no-single ;;
+    rho1774) run rho1774 --shape cylinder --seeds 1 --density 1774 --gap-list 2,3 --no-single ;;
     box13) run box13 --seeds 1,2,3 --box 0.13,0.13,0.10 --gap-list 3,15 --no-single ;;
     *) echo "unknown study tag '$tag' (square, cylinder, rho1774, box13)" >&2; exit 2 ;;
   esac

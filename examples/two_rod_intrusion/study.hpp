@@ -20,6 +20,10 @@
 #include <thread>
 #include <vector>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "scene.hpp"
 
 #if __has_include("granule_git_info.hpp")
@@ -35,7 +39,7 @@ namespace granule::examples::two_rod {
 struct Provenance {
   std::string commit;   ///< git commit of the build ("-dirty" if the tree had changes)
   std::string date;     ///< UTC, ISO 8601
-  std::string machine;  ///< CPU model and hardware threads
+  std::string machine;  ///< CPU model, its hardware threads and the OpenMP threads used
 };
 
 inline Provenance provenance_now() {
@@ -53,6 +57,12 @@ inline Provenance provenance_now() {
       break;
     }
   p.machine = model + " x" + std::to_string(std::max(1u, std::thread::hardware_concurrency()));
+#ifdef _OPENMP
+  const int threads = omp_get_max_threads();
+#else
+  const int threads = 1;
+#endif
+  p.machine += ", " + std::to_string(threads) + (threads == 1 ? " thread" : " threads");
   return p;
 }
 
