@@ -260,9 +260,9 @@ struct ColumnResult {
   Vec lid_force = Vec::Zero(), lid_torque = Vec::Zero();  ///< on the moving lid, last step [N], [N m]
 };
 
-constexpr double kR = 1.0e-3;  // [m]
+constexpr double kPackedR = 1.0e-3;  // [m]
 
-/// ~1000 spheres (radii 0.8-1.2 kR) on a jittered lattice 2.1 kR apart, random velocities up to
+/// ~1000 spheres (radii 0.8-1.2 kPackedR) on a jittered lattice 2.1 kPackedR apart, random velocities up to
 /// 0.3 m/s, gravity, walls on every face; `steps` steps of 1e-5 s.
 /// `two_materials`: every other sphere of a second, stiffer material, so that chunks mix
 /// material pairs and flush on every change (with one material they never do).
@@ -309,8 +309,8 @@ ColumnResult run_column(bool packed, std::size_t steps, bool two_materials = fal
     for (int b = 0; b < 8; ++b)
       for (int c = 0; c < 16; ++c) {
         Vec x = (Vec(a, b, c) + Vec::Constant(0.5)) * 2.1e-3;
-        for (int q = 0; q < 3; ++q) x[q] += uniform(rng, -0.03, 0.03) * kR;
-        const double r = uniform(rng, 0.8, 1.2) * kR;
+        for (int q = 0; q < 3; ++q) x[q] += uniform(rng, -0.03, 0.03) * kPackedR;
+        const double r = uniform(rng, 0.8, 1.2) * kPackedR;
         sim.add_particle(x, r, (a + b + c) % 2 == 0 ? mat : mat2,
                          Vec(uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3)));
       }
@@ -325,7 +325,7 @@ ColumnResult run_column(bool packed, std::size_t steps, bool two_materials = fal
   return out;
 }
 
-/// Two runs of the column agree to rounding: contact count, positions to 1e-12 kR, velocities
+/// Two runs of the column agree to rounding: contact count, positions to 1e-12 kPackedR, velocities
 /// to 1e-9 of the largest speed (amplified rounding over 150 steps stays far below both).
 void check_same_run(const ColumnResult& a, const ColumnResult& b) {
   CHECK(b.contacts == a.contacts);
@@ -336,7 +336,7 @@ void check_same_run(const ColumnResult& a, const ColumnResult& b) {
     vmax = std::max(vmax, a.v[k].norm());
   }
   INFO("max position difference " << dx << " m, velocity " << dv << " m/s (max speed " << vmax << ")");
-  CHECK(dx < 1e-12 * kR);
+  CHECK(dx < 1e-12 * kPackedR);
   CHECK(dv < 1e-9 * vmax);
 }
 

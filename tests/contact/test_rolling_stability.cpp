@@ -23,7 +23,7 @@ namespace {
 // A sphere (disk) of the paper-001 regolith resting on a floor: r = 1.25 mm, rho = 2500 kg/m^3,
 // E = 5 MPa, nu = 0.2, mu_r = 0.8, eta_r = 2 (001 table 2), wall of the same material, g = 100
 // m/s^2 (a deeper overlap than lunar gravity gives, so that the rest state is reached quickly).
-constexpr double kR = 1.25e-3, kRho = 2500.0, kE = 5.0e6, kNu = 0.2, kMuR = 0.8, kG = 100.0;
+constexpr double kRollR = 1.25e-3, kRho = 2500.0, kE = 5.0e6, kNu = 0.2, kMuR = 0.8, kG = 100.0;
 
 template <class D, class Integrator = integrators::VelocityVerlet>
 struct RestingParticle {
@@ -45,7 +45,7 @@ struct RestingParticle {
     cfg.time_step_safety = 1.0;
     cfg.check_rolling_stability = true;
     cfg.stability_check_interval = check_interval;
-    cfg.thickness = 2.0 * kR;
+    cfg.thickness = 2.0 * kRollR;
     sim = std::make_unique<Sim>(cfg);
     Material m{.youngs_modulus = kE, .poisson_ratio = kNu, .density = kRho, .restitution = 0.5, .friction = 1.0};
     m.rolling_friction = kMuR;
@@ -57,11 +57,11 @@ struct RestingParticle {
     // Start at the rest overlap of the 3D Hertz law, m g = 4/3 E* sqrt(R*) delta^(3/2) (sphere
     // on a plane: R* = r), so the sphere neither bounces nor sinks (a 2D disk starts close to it
     // and rings down through the normal damping).
-    sim->add_particle(up * (kR + height), kR, mat);
+    sim->add_particle(up * (kRollR + height), kRollR, mat);
     const double m_p = sim->particles().mass[0];
     const double e_eff = kE / (2.0 * (1.0 - kNu * kNu));
-    overlap = std::pow(m_p * kG / (4.0 / 3.0 * e_eff * std::sqrt(kR)), 2.0 / 3.0);
-    if (height == 0.0) sim->particles().x[0] = up * (kR - overlap);
+    overlap = std::pow(m_p * kG / (4.0 / 3.0 * e_eff * std::sqrt(kRollR)), 2.0 / 3.0);
+    if (height == 0.0) sim->particles().x[0] = up * (kRollR - overlap);
   }
 };
 
@@ -109,21 +109,21 @@ TEST_CASE("EPSD rotational limit of one contact against hand computation", "[con
   const double e_eff = kE / (2.0 * (1.0 - kNu * kNu));
   const double g_eff = kE / (4.0 * (2.0 - kNu) * (1.0 + kNu));
   const double l_beta = std::log(0.5), beta = l_beta / std::sqrt(l_beta * l_beta + std::numbers::pi * std::numbers::pi);
-  const double inertia = 0.4 * m * kR * kR, i_roll = 1.4 * m * kR * kR;
+  const double inertia = 0.4 * m * kRollR * kRollR, i_roll = 1.4 * m * kRollR * kRollR;
   const auto limit_of = [&](double kr, double cr, double kt, double gt, double l, double m_i, double rows) {
     const double w2 = rows * (kr / inertia + kt * l * (l / inertia + 1.0 / std::sqrt(inertia * m_i)));
     const double c = rows * (cr / inertia + gt * l * (l / inertia + 1.0 / std::sqrt(inertia * m_i)));
     const double w = std::sqrt(w2), zeta = c / (2.0 * w);
     return 2.0 * (std::sqrt(1.0 + zeta * zeta) - zeta) / w;
   };
-  const double kn = 4.0 / 3.0 * e_eff * std::sqrt(kR * rp.overlap);
-  const double kr = 2.25 * kn * kMuR * kMuR * kR * kR;
-  const double kt = 8.0 * g_eff * std::sqrt(kR * rp.overlap);
+  const double kn = 4.0 / 3.0 * e_eff * std::sqrt(kRollR * rp.overlap);
+  const double kr = 2.25 * kn * kMuR * kMuR * kRollR * kRollR;
+  const double kt = 8.0 * g_eff * std::sqrt(kRollR * rp.overlap);
   const double gt = -2.0 * std::sqrt(5.0 / 6.0) * beta * std::sqrt(kt * m);
-  const double expected = limit_of(kr, 2.0 * 2.0 * std::sqrt(i_roll * kr), kt, gt, kR - rp.overlap, m, 1.0);
+  const double expected = limit_of(kr, 2.0 * 2.0 * std::sqrt(i_roll * kr), kt, gt, kRollR - rp.overlap, m, 1.0);
   const double w_twist = std::sqrt(kr / inertia), z_twist = 2.0 * std::sqrt(3.5);
   const double twist_onset = 2.0 * (std::sqrt(1.0 + z_twist * z_twist) - z_twist) / w_twist;
-  CHECK(m == Approx(kRho * 4.0 / 3.0 * std::numbers::pi * kR * kR * kR).epsilon(1e-12));
+  CHECK(m == Approx(kRho * 4.0 / 3.0 * std::numbers::pi * kRollR * kRollR * kRollR).epsilon(1e-12));
   CHECK(twist_onset == Approx(3.5356e-5).epsilon(1e-4));
   const auto lim = rp.sim->rolling_stability_limit();
   // The overlap drifts by ~1e-6 of itself in one step of 0.1 us: k_n by half that.
@@ -135,7 +135,7 @@ TEST_CASE("EPSD rotational limit of one contact against hand computation", "[con
   // No rolling damping: only the tangential dashpot damps.
   RestingParticle<Dim3> undamped(0.0, 1e-7, false);
   undamped.sim->step();
-  CHECK(undamped.sim->rolling_stability_limit().limit == Approx(limit_of(kr, 0.0, kt, gt, kR - rp.overlap, m, 1.0)).epsilon(1e-5));
+  CHECK(undamped.sim->rolling_stability_limit().limit == Approx(limit_of(kr, 0.0, kt, gt, kRollR - rp.overlap, m, 1.0)).epsilon(1e-5));
   // Two equal free spheres pressed together (no gravity): R* = r/2, m* = m/2, I_r = 0.7 m r^2;
   // each row gets k_r (1/I + 1/sqrt(I I)) = 2 k_r / I and twice the coupling term (l_i = l_j).
   {
@@ -149,17 +149,17 @@ TEST_CASE("EPSD rotational limit of one contact against hand computation", "[con
     mp.rolling_damping = 2.0;
     const auto mat = pair.add_material(mp);
     const double delta = 1e-5;
-    pair.add_particle(Vec3::Zero(), kR, mat);
-    pair.add_particle(Vec3(2.0 * kR - delta, 0, 0), kR, mat);
+    pair.add_particle(Vec3::Zero(), kRollR, mat);
+    pair.add_particle(Vec3(2.0 * kRollR - delta, 0, 0), kRollR, mat);
     pair.step();
-    const double kn_pp = 4.0 / 3.0 * e_eff * std::sqrt(0.5 * kR * delta);
-    const double kr_pp = 2.25 * kn_pp * kMuR * kMuR * 0.25 * kR * kR;
-    const double kt_pp = 8.0 * g_eff * std::sqrt(0.5 * kR * delta);
+    const double kn_pp = 4.0 / 3.0 * e_eff * std::sqrt(0.5 * kRollR * delta);
+    const double kr_pp = 2.25 * kn_pp * kMuR * kMuR * 0.25 * kRollR * kRollR;
+    const double kt_pp = 8.0 * g_eff * std::sqrt(0.5 * kRollR * delta);
     const double gt_pp = -2.0 * std::sqrt(5.0 / 6.0) * beta * std::sqrt(kt_pp * 0.5 * m);
     const double cr_pp = 2.0 * 2.0 * std::sqrt(0.5 * i_roll * kr_pp);
     // The overlap changes by ~1e-7 of itself in one step of 1 ns.
     CHECK(pair.rolling_stability_limit().limit ==
-          Approx(limit_of(kr_pp, cr_pp, kt_pp, gt_pp, kR - 0.5 * delta, m, 2.0)).epsilon(1e-5));
+          Approx(limit_of(kr_pp, cr_pp, kt_pp, gt_pp, kRollR - 0.5 * delta, m, 2.0)).epsilon(1e-5));
     CHECK(pair.rolling_stability_limit().contacts == 1);
   }
   // The suggested step respects it (here t_R = 1.496e-4 s is 4.9x the limit).
@@ -201,8 +201,8 @@ TEMPLATE_TEST_CASE("EPSD rotations are stable at the engine's limit, and the for
     RestingParticle<D> probe(2.0, 1e-8, false);
     const double m = probe.sim->particles().mass[0];
     const double e_eff = kE / (2.0 * (1.0 - kNu * kNu));
-    const double kr = 2.25 * 4.0 / 3.0 * e_eff * std::sqrt(kR * probe.overlap) * kMuR * kMuR * kR * kR;
-    const double w = std::sqrt(kr / (0.4 * m * kR * kR)), zeta = 2.0 * std::sqrt(3.5);
+    const double kr = 2.25 * 4.0 / 3.0 * e_eff * std::sqrt(kRollR * probe.overlap) * kMuR * kMuR * kRollR * kRollR;
+    const double w = std::sqrt(kr / (0.4 * m * kRollR * kRollR)), zeta = 2.0 * std::sqrt(3.5);
     const double onset = damped_oscillator_stability_limit(w, zeta);
     CHECK(onset == Approx(2.0 * (std::sqrt(1.0 + zeta * zeta) - zeta) / w).epsilon(1e-12));
     RestingParticle<D> below(2.0, 0.98 * onset, true), over(2.0, 1.02 * onset, true);

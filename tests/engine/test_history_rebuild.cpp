@@ -28,7 +28,7 @@ using namespace granule;
 
 namespace {
 
-constexpr double kR = 1.0e-3;  // mean radius [m]
+constexpr double kRebuildR = 1.0e-3;  // mean radius [m]
 
 template <class D>
 using Traj = std::vector<std::vector<typename D::Vec>>;
@@ -53,7 +53,7 @@ struct PileSetup {
     if (D::dim == 3) dom.periodic[D::dim - 1] = periodic_x;
     Domain<D> fill = dom;
     fill.hi[1] = dom.lo[1] + 0.8 * len[1];
-    const auto poured = test::random_packing<D>(31, fill, D::dim == 2 ? 140 : 120, 0.8 * kR, 1.2 * kR, 0.05);
+    const auto poured = test::random_packing<D>(31, fill, D::dim == 2 ? 140 : 120, 0.8 * kRebuildR, 1.2 * kRebuildR, 0.05);
     Simulation<D, contact::HertzMindlin, neighbours::LinkedCells> settle(config(0.0));
     populate(settle, poured, false);
     settle.run(2500);
@@ -183,7 +183,7 @@ void check_pile(bool periodic) {
   RunStats bf, vl;
   const auto t_bf = run_pile<D, neighbours::BruteForce>(setup, steps, 0.0, &bf);
   const auto t_lc = run_pile<D, neighbours::LinkedCells>(setup, steps, 0.0);
-  const auto t_vl = run_pile<D, neighbours::VerletList>(setup, steps, 0.005 * kR, &vl);
+  const auto t_vl = run_pile<D, neighbours::VerletList>(setup, steps, 0.005 * kRebuildR, &vl);
   const auto t_wipe = run_pile<D, neighbours::BruteForce>(setup, steps, 0.0, nullptr, steps / 2);
   const double d_lc = max_traj_difference<D>(t_bf, t_lc);
   const double d_vl = max_traj_difference<D>(t_bf, t_vl);
@@ -193,17 +193,17 @@ void check_pile(bool periodic) {
               << " particles, mean contacts per step " << contacts << ", VerletList builds " << vl.builds
               << ", touching pairs that changed rows: " << vl.flips << " re-sorted, " << vl.ghost_flips
               << " through periodic faces (BruteForce: " << bf.flips << ", " << bf.ghost_flips
-              << "); max |dx|/r vs BruteForce: LinkedCells " << d_lc / kR << ", VerletList " << d_vl / kR
-              << ", history wiped once " << d_wipe / kR);
+              << "); max |dx|/r vs BruteForce: LinkedCells " << d_lc / kRebuildR << ", VerletList " << d_vl / kRebuildR
+              << ", history wiped once " << d_wipe / kRebuildR);
   REQUIRE(setup.spheres.size() >= 100);
   CHECK(contacts > 1.5 * setup.spheres.size());  // dense: > 3 contacts per particle
   CHECK(vl.builds >= 150);                       // many rebuilds
   CHECK(bf.flips == 0);                          // BruteForce never re-sorts
   CHECK(vl.flips >= (periodic ? 10u : 1u));      // re-sorts moved pairs between rows
   if (periodic) CHECK(vl.ghost_flips >= 5);      // contacts crossed periodic faces
-  CHECK(d_lc < 1e-10 * kR);
-  CHECK(d_vl < 1e-10 * kR);
-  CHECK(d_wipe > 1e-6 * kR);  // the comparison is sensitive to one lost history
+  CHECK(d_lc < 1e-10 * kRebuildR);
+  CHECK(d_vl < 1e-10 * kRebuildR);
+  CHECK(d_wipe > 1e-6 * kRebuildR);  // the comparison is sensitive to one lost history
 }
 
 }  // namespace
@@ -229,15 +229,15 @@ void check_shift_invariance() {
   for (auto& s : shifted.spheres) s.x[0] += shift;
   const std::size_t steps = 1000;
   RunStats a_stats, b_stats;
-  const auto a = run_pile<D, neighbours::VerletList>(setup, steps, 0.005 * kR, &a_stats);
-  auto b = run_pile<D, neighbours::VerletList>(shifted, steps, 0.005 * kR, &b_stats);
+  const auto a = run_pile<D, neighbours::VerletList>(setup, steps, 0.005 * kRebuildR, &a_stats);
+  auto b = run_pile<D, neighbours::VerletList>(shifted, steps, 0.005 * kRebuildR, &b_stats);
   for (auto& step : b)
     for (auto& x : step) x[0] -= shift;
   const double d = max_traj_difference<D>(a, b);
   INFO("dim " << D::dim << ": pairs through periodic faces that changed rows " << a_stats.ghost_flips << " / "
-              << b_stats.ghost_flips << "; max |dx|/r " << d / kR);
+              << b_stats.ghost_flips << "; max |dx|/r " << d / kRebuildR);
   CHECK(a_stats.ghost_flips + b_stats.ghost_flips >= 5);
-  CHECK(d < 1e-10 * kR);
+  CHECK(d < 1e-10 * kRebuildR);
 }
 
 }  // namespace
@@ -253,7 +253,7 @@ TEMPLATE_TEST_CASE("set_dt with the same time step leaves the trajectory bitwise
                    "[engine][history]", Dim2, Dim3) {
   const PileSetup<TestType> setup(true);
   using SimT = Simulation<TestType, contact::HertzMindlin, neighbours::VerletList>;
-  SimT a(setup.config(0.005 * kR)), b(setup.config(0.005 * kR));
+  SimT a(setup.config(0.005 * kRebuildR)), b(setup.config(0.005 * kRebuildR));
   setup.populate(a);
   setup.populate(b);
   a.run(300);
@@ -261,7 +261,7 @@ TEMPLATE_TEST_CASE("set_dt with the same time step leaves the trajectory bitwise
   a.run(300);
   b.run(600);
   const double d = test::max_difference(test::positions_by_id(a), test::positions_by_id(b));
-  INFO("max |dx| = " << d / kR << " r");
+  INFO("max |dx| = " << d / kRebuildR << " r");
   CHECK(d == 0.0);
 }
 
@@ -293,9 +293,9 @@ TEMPLATE_TEST_CASE("The set-up force evaluation does not advance tangential spri
   const auto wmat = sim.add_wall_material(m);
   sim.add_wall(geometry::PlaneShape<TestType>(Vec::Zero(), Vec::Unit(1)), wmat);
   Vec x = Vec::Constant(0.01);
-  x[1] = kR - 0.6e-6;
+  x[1] = kRebuildR - 0.6e-6;
   const double u = 0.01;  // [m/s]
-  sim.add_particle(x, kR, mat, Vec(u * Vec::Unit(0)));
+  sim.add_particle(x, kRebuildR, mat, Vec(u * Vec::Unit(0)));
   // elastic_energy() runs the set-up evaluation now; afterwards the history of the contact must
   // still be that of a new contact, bit for bit (spring force and remembered stiffness zero).
   sim.elastic_energy();
@@ -308,7 +308,7 @@ TEMPLATE_TEST_CASE("The set-up force evaluation does not advance tangential spri
   const auto fr = sim.frame();
   REQUIRE(fr.contacts.size() == 1);
   const auto& c = fr.contacts[0];
-  const double kt = 8.0 * mix(m, m).G_eff * std::sqrt(kR * c.overlap);
+  const double kt = 8.0 * mix(m, m).G_eff * std::sqrt(kRebuildR * c.overlap);
   INFO("|F_t| = " << c.ft.norm() << " N, k_t u dt = " << kt * u * cfg.dt << " N");
   CHECK(c.ft.norm() == Approx(kt * u * cfg.dt).epsilon(1e-9));
   CHECK(c.ft[0] < 0.0);  // opposes the sliding
@@ -329,15 +329,15 @@ void check_add_remove(bool periodic) {
   using SimT = Simulation<D, contact::HertzMindlin, neighbours::VerletList>;
   const PileSetup<D> setup(periodic);
   const std::size_t steps = 600, add_at = 300;
-  const double skin = 0.005 * kR;
+  const double skin = 0.005 * kRebuildR;
   std::uint64_t extra = 0;
   std::size_t builds_before = 0, builds_after = 0;
   auto disturb = [&](SimT& sim, std::size_t s) {
     if (s == add_at) {
-      Vec x = setup.dom.lo + Vec::Constant(1.5 * kR);
-      x[1] = setup.dom.hi[1] - 1.5 * kR;
+      Vec x = setup.dom.lo + Vec::Constant(1.5 * kRebuildR);
+      x[1] = setup.dom.hi[1] - 1.5 * kRebuildR;
       builds_before = sim.neighbour_list().builds;
-      extra = sim.add_particle(x, kR, 0);
+      extra = sim.add_particle(x, kRebuildR, 0);
     } else if (s == add_at + 1) {
       const std::size_t removed = sim.remove_particles([&](std::size_t i) { return sim.particles().id[i] == extra; });
       REQUIRE(removed == 1);
@@ -350,9 +350,9 @@ void check_add_remove(bool periodic) {
   disturbed[add_at - 1].resize(reference[add_at - 1].size());  // the extra particle, last id
   const double d = max_traj_difference<D>(reference, disturbed);
   INFO("dim " << D::dim << (periodic ? " periodic" : " box") << ": builds across the disturbance "
-              << builds_after - builds_before << ", max |dx|/r vs undisturbed " << d / kR);
+              << builds_after - builds_before << ", max |dx|/r vs undisturbed " << d / kRebuildR);
   CHECK(builds_after - builds_before >= 2);  // both changes rebuilt the list
-  CHECK(d < 1e-10 * kR);
+  CHECK(d < 1e-10 * kRebuildR);
 }
 
 }  // namespace
@@ -445,7 +445,7 @@ TEMPLATE_TEST_CASE("Only touching pairs hold a history slot", "[engine][history]
   using D = TestType;
   const PileSetup<D> setup(true);
   using SimT = Simulation<D, contact::HertzMindlin, neighbours::VerletList>;
-  SimT sim(setup.config(0.005 * kR));
+  SimT sim(setup.config(0.005 * kRebuildR));
   setup.populate(sim);
   const SlotCheck c = check_slots(sim, 300);
   INFO(describe<D>(c));
@@ -467,12 +467,12 @@ TEMPLATE_TEST_CASE("History slots of separated pairs are reused in a granular ga
   SimulationConfig<D> cfg;
   cfg.domain = test::box_domain<D>(Vec::Constant(D::dim == 2 ? 0.03 : 0.012), true);
   cfg.dt = 1e-5;  // 0.15 x the Rayleigh time of the smallest particle
-  cfg.skin = 2.0 * kR;
+  cfg.skin = 2.0 * kRebuildR;
   cfg.thickness = 1e-3;
   cfg.gravity = Vec::Zero();
   Simulation<D, contact::HertzMindlin, neighbours::VerletList> sim(cfg);
   const auto mat = sim.add_material(test::soft_material(0.9, 0.5));
-  const auto pk = test::random_packing<D>(77, cfg.domain, D::dim == 2 ? 150 : 200, 0.8 * kR, 1.2 * kR, 0.0);
+  const auto pk = test::random_packing<D>(77, cfg.domain, D::dim == 2 ? 150 : 200, 0.8 * kRebuildR, 1.2 * kRebuildR, 0.0);
   std::mt19937_64 rng(11);
   for (const auto& s : pk) {
     Vec v;

@@ -18,7 +18,7 @@ using namespace granule;
 
 namespace {
 
-constexpr double kR = 1.0e-3;  // [m]
+constexpr double kMotionR = 1.0e-3;  // [m]
 
 template <class D>
 SimulationConfig<D> motion_config() {
@@ -40,17 +40,17 @@ TEMPLATE_TEST_CASE("A frozen particle never moves under impacts", "[engine][grou
   Simulation<TestType, contact::HertzMindlin> sim(motion_config<TestType>());
   const auto mat = sim.add_material(test::soft_material(0.8, 0.5));
   const Vec centre = Vec::Constant(0.02);
-  const auto frozen = sim.add_particle(centre, 2 * kR, mat, Vec::Zero(), 1);
+  const auto frozen = sim.add_particle(centre, 2 * kMotionR, mat, Vec::Zero(), 1);
   sim.freeze_group(1);
   // Projectiles from every axis direction, slightly off-centre (so friction acts too).
   std::vector<std::uint64_t> shots;
   std::vector<Vec> v0;
   for (int k = 0; k < TestType::dim; ++k) {
     for (double s : {-1.0, 1.0}) {
-      Vec x = centre + s * 4.5 * kR * Vec::Unit(k);
-      x[(k + 1) % TestType::dim] += 0.5 * kR;
+      Vec x = centre + s * 4.5 * kMotionR * Vec::Unit(k);
+      x[(k + 1) % TestType::dim] += 0.5 * kMotionR;
       const Vec v = -s * 1.0 * Vec::Unit(k);  // [m/s]
-      shots.push_back(sim.add_particle(x, kR, mat, v));
+      shots.push_back(sim.add_particle(x, kMotionR, mat, v));
       v0.push_back(v);
     }
   }
@@ -85,12 +85,12 @@ TEMPLATE_TEST_CASE("A prescribed group follows v(t) exactly, whatever hits it", 
     return v;
   };
   const Vec x0 = Vec::Constant(0.02);
-  const auto shaker = sim.add_particle(x0, 2 * kR, mat, Vec::Zero(), 3);
+  const auto shaker = sim.add_particle(x0, 2 * kMotionR, mat, Vec::Zero(), 3);
   sim.prescribe_group_velocity(3, vel);
   // A free particle resting on top of the shaker gets thrown around by it.
   Vec xf = x0;
-  xf[1] += 3.0 * kR;
-  const auto free_id = sim.add_particle(xf, kR, mat);
+  xf[1] += 3.0 * kMotionR;
+  const auto free_id = sim.add_particle(xf, kMotionR, mat);
   const double dt = sim.dt();
   Vec midpoint_sum = x0;
   double t = 0.0;
@@ -142,13 +142,13 @@ void check_piston() {
   piston.name = "piston";
   piston.velocity = [speed, up](double) { return Vec(-speed * up); };
   const auto pb = sim.add_body(piston);
-  const double top = 10.0 * kR + 0.2 * kR;
+  const double top = 10.0 * kMotionR + 0.2 * kMotionR;
   sim.add_wall(geometry::PlaneShape<D>(Vec(top * up), Vec(-up)), wmat, pb);
   Vec x = Vec::Constant(0.02);
   double mass = 0.0;
   for (int k = 0; k < 5; ++k) {
-    x[1] = (2 * k + 1) * kR;
-    sim.add_particle(x, kR, mat);
+    x[1] = (2 * k + 1) * kMotionR;
+    sim.add_particle(x, kMotionR, mat);
     mass += sim.particles().mass.back();
   }
   const Vec weight = mass * cfg.gravity;
@@ -220,11 +220,11 @@ TEMPLATE_TEST_CASE("Touching prescribed and frozen particles do not break the ru
   Simulation<TestType, contact::HertzMindlin> sim(cfg);
   const auto mat = sim.add_material(test::soft_material(0.5, 0.5));
   Vec x = Vec::Constant(0.02);
-  const auto a = sim.add_particle(x, kR, mat, Vec::Zero(), 1);
-  x[0] += 1.9 * kR;
-  const auto b = sim.add_particle(x, kR, mat, Vec::Zero(), 1);  // overlaps a by 0.1 r
-  x[0] += 1.9 * kR;
-  sim.add_particle(x, kR, mat, Vec::Zero(), 2);  // overlaps b, frozen
+  const auto a = sim.add_particle(x, kMotionR, mat, Vec::Zero(), 1);
+  x[0] += 1.9 * kMotionR;
+  const auto b = sim.add_particle(x, kMotionR, mat, Vec::Zero(), 1);  // overlaps a by 0.1 r
+  x[0] += 1.9 * kMotionR;
+  sim.add_particle(x, kMotionR, mat, Vec::Zero(), 2);  // overlaps b, frozen
   const Vec v = 0.01 * Vec::Unit(1);
   sim.prescribe_group_velocity(1, [v](double) { return v; });
   sim.freeze_group(2);
@@ -247,10 +247,10 @@ TEMPLATE_TEST_CASE("Released frozen particles interact at once", "[engine][group
   const auto wmat = sim.add_wall_material(test::soft_material(0.5));
   sim.add_wall(geometry::PlaneShape<TestType>(Vec::Zero(), Vec::Unit(1)), wmat);
   Vec x = Vec::Constant(0.02);
-  x[1] = kR;
-  const auto lower = sim.add_particle(x, kR, mat, Vec::Zero(), 1);
-  x[1] = 3.0 * kR;
-  const auto upper = sim.add_particle(x, kR, mat, Vec::Zero(), 1);
+  x[1] = kMotionR;
+  const auto lower = sim.add_particle(x, kMotionR, mat, Vec::Zero(), 1);
+  x[1] = 3.0 * kMotionR;
+  const auto upper = sim.add_particle(x, kMotionR, mat, Vec::Zero(), 1);
   sim.freeze_group(1);
   sim.run(10);
   sim.release_group(1);
@@ -258,10 +258,10 @@ TEMPLATE_TEST_CASE("Released frozen particles interact at once", "[engine][group
   for (int s = 0; s < 3000; ++s) {
     sim.step();
     const auto& p = sim.particles();
-    const double gap = (p.x[sim.index_of(upper)] - p.x[sim.index_of(lower)]).norm() - 2.0 * kR;
+    const double gap = (p.x[sim.index_of(upper)] - p.x[sim.index_of(lower)]).norm() - 2.0 * kMotionR;
     worst_overlap = std::max(worst_overlap, -gap);
   }
   // The same stack never frozen: largest (dynamic) overlap 1.1e-3 r in 2D, 1.3e-3 r in 3D.
-  INFO("largest overlap " << worst_overlap / kR << " r");
-  CHECK(worst_overlap < 3e-3 * kR);
+  INFO("largest overlap " << worst_overlap / kMotionR << " r");
+  CHECK(worst_overlap < 3e-3 * kMotionR);
 }

@@ -16,8 +16,8 @@ namespace {
 
 // Geometry of the packings: radii in [1, 5] mm (ratio 5:1); boxes large enough for periodic
 // images (L > 2 (2 r_max + skin)).
-constexpr double kRmin = 1.0e-3;  // [m]
-constexpr double kRmax = 5.0e-3;  // [m]
+constexpr double kPolicyRmin = 1.0e-3;  // [m]
+constexpr double kPolicyRmax = 5.0e-3;  // [m]
 
 template <class D>
 typename D::Vec packing_box() {
@@ -57,7 +57,7 @@ void check_static_packing(int periodic_case) {
   // axes are periodic), then random spheres.
   using Vec = typename D::Vec;
   std::vector<test::SphereSpec<D>> placed;
-  const double gap = 0.5 * (kRmax + 0.8 * kRmin);  // half the centre distance
+  const double gap = 0.5 * (kPolicyRmax + 0.8 * kPolicyRmin);  // half the centre distance
   const Vec mid = 0.5 * (dom.lo + dom.hi);
   for (int k = 0; k < D::dim; ++k) {
     if (!dom.periodic[k]) continue;
@@ -65,15 +65,15 @@ void check_static_packing(int periodic_case) {
     Vec b = a;
     a[k] = dom.lo[k] + gap;
     b[k] = dom.hi[k] - gap;
-    placed.push_back({a, kRmax});
-    placed.push_back({b, kRmin});
+    placed.push_back({a, kPolicyRmax});
+    placed.push_back({b, kPolicyRmin});
   }
   if (all) {
     const double g = gap / std::sqrt(double(D::dim));
-    placed.push_back({Vec(dom.lo + Vec::Constant(g)), kRmin});
-    placed.push_back({Vec(dom.hi - Vec::Constant(g)), kRmax});
+    placed.push_back({Vec(dom.lo + Vec::Constant(g)), kPolicyRmin});
+    placed.push_back({Vec(dom.hi - Vec::Constant(g)), kPolicyRmax});
   }
-  const auto pk = test::random_packing<D>(1234 + periodic_case, dom, packing_count<D>(), kRmin, kRmax, 0.3, placed);
+  const auto pk = test::random_packing<D>(1234 + periodic_case, dom, packing_count<D>(), kPolicyRmin, kPolicyRmax, 0.3, placed);
   REQUIRE(pk.size() == packing_count<D>());
 
   const auto f_bf = frame_after_one_step<D, neighbours::BruteForce>(dom, pk);
@@ -122,7 +122,7 @@ void check_gas(bool periodic_all) {
   const Vec box = packing_box<D>();
   const auto dom = test::box_domain<D>(box, periodic_all, 0);
   const std::size_t n = D::dim == 2 ? 150 : 120;
-  const auto pk = test::random_packing<D>(99, dom, n, kRmin, kRmax, 0.0);
+  const auto pk = test::random_packing<D>(99, dom, n, kPolicyRmin, kPolicyRmax, 0.0);
   REQUIRE(pk.size() == n);
   std::mt19937_64 rng(7);
   std::vector<Vec> vel(n);
@@ -162,7 +162,7 @@ void check_gas(bool periodic_all) {
   std::vector<std::vector<Vec>> x_bf, x_vl;
   std::size_t b_bf = 0, b_vl = 0;
   run(neighbours::BruteForce{}, 0.0, s_bf, x_bf, b_bf);
-  run(neighbours::VerletList{}, 0.1 * kRmin, s_vl, x_vl, b_vl);
+  run(neighbours::VerletList{}, 0.1 * kPolicyRmin, s_vl, x_vl, b_vl);
   REQUIRE(s_bf.size() == 1500);
   REQUIRE(s_vl.size() == 1500);
   std::size_t mismatched_steps = 0, total_contacts = 0, first_bad = 0;
@@ -182,7 +182,7 @@ void check_gas(bool periodic_all) {
   CHECK(b_vl < 1500);            // but not every step
   CHECK(mismatched_steps == 0);
   // Without history the two runs differ only by the order of force sums (round-off).
-  CHECK(max_dx < 1e-9 * kRmin);
+  CHECK(max_dx < 1e-9 * kPolicyRmin);
 }
 
 }  // namespace
@@ -210,9 +210,9 @@ TEMPLATE_TEST_CASE("request_contacts before the first step records that step's c
   Simulation<TestType, contact::HertzFrictionless> sim(cfg);
   const auto mat = sim.add_material(test::soft_material());
   Vec x = Vec::Constant(0.01);
-  sim.add_particle(x, kRmin, mat);
-  x[0] += 1.9 * kRmin;
-  sim.add_particle(x, kRmin, mat);
+  sim.add_particle(x, kPolicyRmin, mat);
+  x[0] += 1.9 * kPolicyRmin;
+  sim.add_particle(x, kPolicyRmin, mat);
   sim.request_contacts();
   sim.step();
   CHECK(sim.contact_count() == 1);

@@ -11,7 +11,7 @@ using namespace granule;
 
 namespace {
 
-constexpr double kR = 1.0e-3;  // [m]
+constexpr double kLoadR = 1.0e-3;  // [m]
 
 template <class D>
 SimulationConfig<D> rest_config() {
@@ -43,14 +43,14 @@ TEMPLATE_TEST_CASE("A sphere resting on a plane wall loads it with exactly its w
   const auto wmat = sim.add_wall_material(m);
   sim.add_wall(geometry::PlaneShape<TestType>(Vec::Zero(), Vec::Unit(1)), wmat);
   Vec x = Vec::Constant(0.01);
-  x[1] = kR;  // touching, zero overlap
-  const auto id = sim.add_particle(x, kR, mat);
+  x[1] = kLoadR;  // touching, zero overlap
+  const auto id = sim.add_particle(x, kLoadR, mat);
   const double mass = sim.particles().mass[0];
   const Vec weight = mass * cfg.gravity;
   sim.run(3000);
   const Vec f_wall = sim.body(0).force;
-  const double overlap = kR - sim.particles().x[sim.index_of(id)][1];
-  const double expected = hertz_overlap(weight.norm(), mix(m, m).E_eff, kR);
+  const double overlap = kLoadR - sim.particles().x[sim.index_of(id)][1];
+  const double expected = hertz_overlap(weight.norm(), mix(m, m).E_eff, kLoadR);
   INFO("dim " << TestType::dim << ": wall force " << f_wall.transpose() << " N, weight " << weight.transpose()
               << " N, relative error " << (f_wall - weight).norm() / weight.norm() << "; overlap " << overlap
               << " m, Hertz " << expected << " m");
@@ -73,8 +73,8 @@ TEMPLATE_TEST_CASE("A column of five spheres loads the floor with its total weig
   Vec x = Vec::Constant(0.01);
   std::vector<std::uint64_t> ids;
   for (int k = 0; k < 5; ++k) {
-    x[1] = (2 * k + 1) * kR;
-    ids.push_back(sim.add_particle(x, kR, mat));
+    x[1] = (2 * k + 1) * kLoadR;
+    ids.push_back(sim.add_particle(x, kLoadR, mat));
   }
   const double mass = sim.particles().mass[0];
   const Vec weight = 5.0 * mass * cfg.gravity;
@@ -94,11 +94,11 @@ TEMPLATE_TEST_CASE("A column of five spheres loads the floor with its total weig
     if (c.j == analysis::ContactRecord<TestType>::kWall) continue;
     ++pairs;
     const double top = std::max(fr.x[c.i][1], fr.x[c.j][1]);  // centre of the upper sphere
-    const int above = static_cast<int>(std::lround((9 * kR - top) / (2 * kR))) + 1;  // it and those above
+    const int above = static_cast<int>(std::lround((9 * kLoadR - top) / (2 * kLoadR))) + 1;  // it and those above
     const double load = above * mass * std::abs(cfg.gravity[1]);
     INFO("pair at height " << top << ": fn " << c.fn << " N, load " << load << " N");
     CHECK(c.fn == Approx(load).epsilon(1e-9));
-    CHECK(c.overlap == Approx(hertz_overlap(load, e_eff, 0.5 * kR)).epsilon(1e-9));
+    CHECK(c.overlap == Approx(hertz_overlap(load, e_eff, 0.5 * kLoadR)).epsilon(1e-9));
   }
   CHECK(pairs == 4);
 }

@@ -18,7 +18,7 @@ using namespace granule;
 
 namespace {
 
-constexpr double kR = 1.0e-3;  // [m]
+constexpr double kColumnR = 1.0e-3;  // [m]
 
 template <class D>
 struct Snapshot {
@@ -71,7 +71,7 @@ std::vector<test::SphereSpec<D>> column_packing() {
   while (c[D::dim - 1] < cells[D::dim - 1]) {
     Vec x = (c.template cast<double>().array() + 0.5).matrix() * kSpacing;
     for (int k = 0; k < D::dim; ++k) x[k] += test::uniform(rng, -0.02, 0.02) * kSpacing;
-    out.push_back({x, test::uniform(rng, 0.8, 1.2) * kR});
+    out.push_back({x, test::uniform(rng, 0.8, 1.2) * kColumnR});
     for (int k = 0; k < D::dim; ++k) {
       if (++c[k] < cells[k] || k == D::dim - 1) break;
       c[k] = 0;
@@ -109,7 +109,7 @@ Snapshot<D> run_column(int threads, std::size_t steps, bool perturb = false) {
     for (int k = 0; k < D::dim; ++k) v[k] = test::uniform(rng, -0.3, 0.3);  // [m/s]
     // Control: one position moved by 1e-9 r.
     Vec x = s.x;
-    if (perturb && &s == &packing.front()) x[1] += 1e-9 * kR;
+    if (perturb && &s == &packing.front()) x[1] += 1e-9 * kColumnR;
     sim.add_particle(x, s.r, mat, v);
   }
   sim.run(steps);

@@ -17,11 +17,11 @@ namespace {
 using granule::Dim3;
 using Frame3 = granule::analysis::Frame<Dim3>;
 
-std::string temp_path(const std::string& name) {
+std::string lammps_temp_path(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("granule_test_lammps_data_" + name)).string();
 }
 
-std::string read_text(const std::string& path) {
+std::string lammps_read_text(const std::string& path) {
   std::ifstream f(path);
   return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
 }
@@ -51,7 +51,7 @@ Frame3 sample_frame() {
 
 TEST_CASE("lammps_data: write then read reproduces every value exactly", "[io][lammps_data]") {
   const Frame3 f = sample_frame();
-  const std::string path = temp_path("roundtrip.data");
+  const std::string path = lammps_temp_path("roundtrip.data");
   const double density = 2500.0;  // [kg/m^3]
   granule::io::write_lammps_data(path, f, f.box_lo, f.box_hi, density, {true, false, false});
   const auto data = granule::io::read_lammps_data(path);
@@ -76,7 +76,7 @@ TEST_CASE("lammps_data: write then read reproduces every value exactly", "[io][l
     CHECK(g.mass[k] == Approx(m).epsilon(1e-15));
   }
   // LAMMPS ids are 1-based: granule id 0 is written as 1.
-  const std::string text = read_text(path);
+  const std::string text = lammps_read_text(path);
   CHECK(text.find("\n1 1 0.002 2500 0.7 ") != std::string::npos);
   CHECK(text.find("4 atoms\n1 atom types\n") != std::string::npos);
   CHECK(text.find("Atoms # sphere") != std::string::npos);
@@ -88,7 +88,7 @@ TEST_CASE("lammps_data: periodic directions are wrapped, others must hold the ce
   Frame3 f;
   f.x = {Dim3::Vec(1.25, 0.5, 0.5), Dim3::Vec(-0.5, 0.25, 0.0)};
   f.radius = {0.1, 0.1};
-  const std::string path = temp_path("wrap.data");
+  const std::string path = lammps_temp_path("wrap.data");
   granule::io::write_lammps_data(path, f, Dim3::Vec(0, 0, 0), Dim3::Vec(1, 1, 1), 1000.0,
                                  {true, false, false});
   const auto data = granule::io::read_lammps_data(path);
@@ -100,7 +100,7 @@ TEST_CASE("lammps_data: periodic directions are wrapped, others must hold the ce
   CHECK(data.frame.id[0] == 0);
   CHECK(data.frame.id[1] == 1);
   // No velocities in the frame: no Velocities section, particles read back at rest.
-  CHECK(read_text(path).find("Velocities") == std::string::npos);
+  CHECK(lammps_read_text(path).find("Velocities") == std::string::npos);
   CHECK(data.frame.v[1] == Dim3::Vec::Zero());
 
   f.x[1].y() = 1.5;  // outside the non-periodic y extent
@@ -118,7 +118,7 @@ TEST_CASE("lammps_data: overload takes box and periodicity from the frame", "[io
   f.box_lo = Dim3::Vec(0, 0, 0);
   f.box_hi = Dim3::Vec(2, 1, 1);
   f.periodic[0] = true;
-  const std::string path = temp_path("frame_box.data");
+  const std::string path = lammps_temp_path("frame_box.data");
   granule::io::write_lammps_data(path, f, 1100.0, /*with_velocities=*/false);
   const auto data = granule::io::read_lammps_data(path);
   CHECK(data.frame.box_hi == f.box_hi);
@@ -150,7 +150,7 @@ TEST_CASE("lammps_data: reads the layout of LIGGGHTS write_data", "[io][lammps_d
       "330 0 0 -1e-3 0 0 0\n"
       "2183 1 2 3 4 5 6\n"
       "17 0 0 0 0 0 0\n";
-  const std::string path = temp_path("liggghts.data");
+  const std::string path = lammps_temp_path("liggghts.data");
   write_text(path, text);
   const auto data = granule::io::read_lammps_data(path);
   REQUIRE(data.frame.size() == 3);
@@ -169,7 +169,7 @@ TEST_CASE("lammps_data: bad input is rejected", "[io][lammps_data]") {
   Frame3 f;
   f.x = {Dim3::Vec(0.5, 0.5, 0.5)};
   f.radius = {0.1};
-  const std::string path = temp_path("bad.data");
+  const std::string path = lammps_temp_path("bad.data");
   const Dim3::Vec lo(0, 0, 0), hi(1, 1, 1);
   using granule::InvalidParameter;
   using granule::IoError;
@@ -192,7 +192,7 @@ TEST_CASE("lammps_data: bad input is rejected", "[io][lammps_data]") {
     CHECK(std::string(e.what()).find("write_lammps_data: density = -2") != std::string::npos);
   }
 
-  CHECK_THROWS_AS(granule::io::read_lammps_data(temp_path("does_not_exist.data")), IoError);
+  CHECK_THROWS_AS(granule::io::read_lammps_data(lammps_temp_path("does_not_exist.data")), IoError);
   const std::string header = "title\n\n2 atoms\n0 1 xlo xhi\n0 1 ylo yhi\n0 1 zlo zhi\n\n";
   write_text(path, header + "Atoms # sphere\n\n1 1 0.1 1000 0.5 0.5 0.5\n");
   CHECK_THROWS_AS(granule::io::read_lammps_data(path), IoError);  // 1 row for 2 atoms

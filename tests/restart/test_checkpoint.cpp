@@ -79,7 +79,7 @@ void require_same_state(const Sim& a, const Sim& b) {
   }
 }
 
-std::string temp_path(const std::string& name) {
+std::string checkpoint_temp_path(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("granule_ckpt_" + name)).string();
 }
 
@@ -93,7 +93,7 @@ TEMPLATE_TEST_CASE("checkpoint restart is bitwise exact", "[restart]", Dim2, Dim
 
   Scene<D> first;
   first.sim->run(n);
-  const std::string path = temp_path("exact_" + std::to_string(D::dim));
+  const std::string path = checkpoint_temp_path("exact_" + std::to_string(D::dim));
   io::write_checkpoint(*first.sim, path, {7, 11});
   REQUIRE(std::filesystem::exists(path));
   REQUIRE_FALSE(std::filesystem::exists(path + ".tmp"));
@@ -113,7 +113,7 @@ TEMPLATE_TEST_CASE("checkpoint restart is bitwise exact", "[restart]", Dim2, Dim
 TEST_CASE("checkpoint refuses damaged and mismatched files", "[restart]") {
   Scene<Dim3> s3;
   s3.sim->run(10);
-  const std::string path = temp_path("refuse");
+  const std::string path = checkpoint_temp_path("refuse");
   io::write_checkpoint(*s3.sim, path);
   const auto size = std::filesystem::file_size(path);
 
