@@ -77,7 +77,11 @@ TEST_CASE("two_rod_intrusion: force grows with depth, far-apart rods do twice th
   for (const tr::RunResult* r : {&pair, &single}) {
     CHECK(std::isfinite(r->work));
     CHECK(r->work > 0.0);
-    CHECK(r->body_work == Approx(r->work).epsilon(0.05));
+    // The drive's work also counts the contacts met above z = 0 (grains whose tops stand above
+    // the mean surface, defined by analysis::bed_height since issue 25): in this shallow bed
+    // that adds 11-20 %; at the study's 8 cm it is under 1 %.
+    CHECK(r->body_work >= r->work);
+    CHECK(r->body_work == Approx(r->work).epsilon(0.25));
     CHECK(r->samples.back().depth == Approx(rod.depth).margin(1e-9 + rod.speed * bed.dt));
   }
   // Force grows with depth (least-squares slope over the whole intrusion).
