@@ -114,7 +114,7 @@ class Simulation {
   using List = neighbours::PairList<D, State, kHasState>;
   /// The pair loop can run packed (contact/packed.hpp): 3D, a model written over D::Real, and
   /// dashpots on the kinematic velocity.
-  static constexpr bool kPackable = D::dim == 3 && Model::lanes && !kPredictDamping;
+  static constexpr bool kPackable = Model::lanes && !kPredictDamping;
   /// Below this many particles every loop runs on one thread: a parallel region costs more
   /// than it saves, and badly so when cores are oversubscribed.
   static constexpr std::size_t kParallelMinParticles = 2048;
@@ -1081,9 +1081,23 @@ class Simulation {
       return std::uint64_t(row_begin[layer_begin[l + 1]] - row_begin[layer_begin[l]]) +
              (layer_begin[l + 1] - layer_begin[l]);
     };
-    for (std::size_t colour = 0; colour < 3; ++colour) {
+    const auto process = [&](std::size_t l) {
+      if (record) {
+        process_layer<true>(l);
+      } else if (kPackable && config_.packed_contacts) {
+        process_layer_packed(l);
+      } else {
+        process_layer<false>(l);
+      }
+    };
+    // One thread: the same layers in the same order, without the parallel regions and the work
+    // split (both cost 3-4 % of a 1600-disk 2D step).
+    const bool threaded = parallel && parallel_;
+    for (std::size_t colour = 0; colour < 3 && !threaded; ++colour)
+      for (std::size_t l = colour; l < nl; l += 3) process(l);
+    for (std::size_t colour = 0; colour < 3 && threaded; ++colour) {
       const std::size_t count = nl > colour ? (nl - colour + 2) / 3 : 0;
-#pragma omp parallel if (parallel && parallel_)
+#pragma omp parallel
       {
 #ifdef _OPENMP
         const std::uint64_t thread = static_cast<std::uint64_t>(omp_get_thread_num());
@@ -1101,14 +1115,7 @@ class Simulation {
           const std::uint64_t owner =
               total == 0 ? 0 : std::min(threads - 1, (2 * before + w) * threads / (2 * total));
           before += w;
-          if (owner != thread) continue;
-          if (record) {
-            process_layer<true>(l);
-          } else if (kPackable && config_.packed_contacts) {
-            process_layer_packed(l);
-          } else {
-            process_layer<false>(l);
-          }
+          if (owner == thread) process(l);
         }
       }
     }
@@ -1403,7 +1410,7 @@ class Simulation {
   // in queue order. (One out-of-line copy: inlined at its three calls into the flattened pair
   // loop it made scene A 5 % slower.)
   [[gnu::noinline]] GRANULE_FLATTEN void flush_wall_queue(WallQueue& q, LayerAccumulator& acc) {
-    if constexpr (kPackable) {
+    if constexpr (kPackable && D::dim == 3) {
       using LD = Dim3Lanes;
       using PackedState = typename Model::template State<LD>;
       const std::size_t n = q.count;
@@ -1438,7 +1445,11 @@ class Simulation {
   // member access through a null pointer.
   template <class V>
   static const double* scalars(const std::vector<V>& v) {
-    return v.empty() ? nullptr : v.front().data();
+    if constexpr (std::is_same_v<V, double>) {
+      return v.empty() ? nullptr : v.data();
+    } else {
+      return v.empty() ? nullptr : v.front().data();
+    }
   }
 
   // Asks the caches for the particle data that layer l's packs gather and scatter (velocities,
@@ -1478,7 +1489,7 @@ class Simulation {
   // the count depended on the touch, was 5-12 % slower: the copy was bound by its stores.)
   GRANULE_FLATTEN void process_layer_packed(std::size_t l) {
     if constexpr (kPackable) {
-      using Chunk = contact::PairChunk<64>;
+      using Chunk = contact::PairChunk<64, D::dim>;
       auto& p = particles_;
       auto& acc = layer_acc_[l];
       const std::size_t r0 = list_.layer_begin[l], r1 = list_.layer_begin[l + 1];
@@ -1497,7 +1508,7 @@ class Simulation {
       const contact::TouchScanInput scan{scalars(p.x), p.radius.data(), list_.row_begin.data(),
                                          list_.nbr.data(), kHasState ? list_.slot.data() : nullptr, List::kNone};
       // (Slots are taken and given back in entry order, so they do not depend on threads.)
-      const std::size_t nt = contact::scan_rows(scan, static_cast<std::uint32_t>(r0), static_cast<std::uint32_t>(r1),
+      const std::size_t nt = contact::scan_rows<D::dim>(scan, static_cast<std::uint32_t>(r0), static_cast<std::uint32_t>(r1),
                                                 sorted, rows, [&](std::uint32_t e, bool touch) {
                                                   if constexpr (kHasState) {
                                                     if (touch) {
@@ -1512,9 +1523,36 @@ class Simulation {
         k = fill_chunk(chunk, sorted, rows, k, nt);
         evaluate_chunk(chunk, acc, l);
       }
-      WallQueue walls;
-      queue_wall_contacts(r0, r1, acc, walls);
-      flush_wall_queue(walls, acc);
+      if constexpr (D::dim == 3) {
+        WallQueue walls;
+        queue_wall_contacts(r0, r1, acc, walls);
+        flush_wall_queue(walls, acc);
+      } else {
+        wall_contacts_by_entry(r0, r1, acc);
+      }
+    }
+  }
+
+  // The wall contacts of rows r0..r1 one at a time, in entry order (2D: a disk bed has few wall
+  // contacts, and the packed wall law is written for 3D geometries, contact::GeometryLanes).
+  void wall_contacts_by_entry(std::size_t r0, std::size_t r1, LayerAccumulator& acc) {
+    auto& p = particles_;
+    std::uint32_t row = 0;
+    const auto use = [&](const contact::ContactGeometry<D>& g, State* state, std::size_t prm, std::uint32_t wall,
+                         const geometry::SurfacePoint<D>& sp) {
+      const std::uint32_t body = walls_[wall].body;
+      State tmp{};
+      const contact::ContactForce<D> cf = Model::evaluate(params_[prm], g, state != nullptr ? *state : tmp);
+      p.f[row] += cf.force;
+      p.torque[row] += cf.torque_i;
+      acc.body_force[body] -= cf.force;
+      acc.body_torque[body] -= D::cross(Vec(sp.point - bodies_[body].pose.translation()), cf.force);
+      ++acc.contacts;
+    };
+    const std::uint32_t e1 = list_.wall_begin[r1];
+    for (std::uint32_t e = list_.wall_begin[r0]; e < e1; ++e) {
+      row = list_.wall_row[e];
+      wall_entry_contacts(row, e, acc, use);
     }
   }
 
@@ -1555,7 +1593,7 @@ class Simulation {
   // Passes 2 and 3 of the packed pair loop (contact/packed.hpp) for one chunk; empties it.
   template <class Chunk>
   void evaluate_chunk(Chunk& chunk, LayerAccumulator& acc, std::size_t l) {
-    using LD = Dim3Lanes;
+    using LD = LanesOf<D>;
     using PackedState = typename Model::template State<LD>;
     auto& p = particles_;
     const std::size_t n = p.owned();
@@ -1563,7 +1601,7 @@ class Simulation {
     const double dt = setup_evaluation_ ? 0.0 : config_.dt;
     const double max_ratio = config_.max_overlap_ratio;
     chunk.pad();
-    static_assert(sizeof(Vec) == 3 * sizeof(double) && sizeof(AngVec) == 3 * sizeof(double));
+    static_assert(sizeof(Vec) == D::dim * sizeof(double) && sizeof(AngVec) == D::rot_dim * sizeof(double));
     const contact::PackedParticles pp{scalars(p.x), scalars(p.v), scalars(p.omega),
                                       p.radius.data(), p.inv_mass.data()};
     contact::ContactGeometry<LD> g;
@@ -1590,9 +1628,7 @@ class Simulation {
       }
       const contact::ContactForce<LD> cf = Model::evaluate(prm, g, s);
       if constexpr (kHasState) contact::PackedState<State, PackedState>::store(s, slots, valid);
-      chunk.store3(Chunk::fx, k, cf.force);
-      chunk.store3(Chunk::tix, k, cf.torque_i);
-      chunk.store3(Chunk::tjx, k, cf.torque_j);
+      chunk.store_force(k, cf);
     }
     // Pass 3, in entry order. (Keeping a row's sum in a register and writing it once per run
     // of equal i was 5 % slower in scene B: the run ends are unpredictable branches.)
@@ -1600,13 +1636,22 @@ class Simulation {
     Vec* const force = p.f.data();
     AngVec* const torque = p.torque.data();
     const auto& out = chunk.out;
+    constexpr std::size_t fx = Chunk::fx, tix = Chunk::tix, tjx = Chunk::tjx;
     for (std::size_t c = 0; c < chunk.count; ++c) {
       const std::uint32_t i = chunk.i[c], j = chunk.j[c];
-      const Vec f(out[Chunk::fx][c], out[Chunk::fy][c], out[Chunk::fz][c]);
-      force[i] += f;
-      force[j] -= f;
-      torque[i] += AngVec(out[Chunk::tix][c], out[Chunk::tiy][c], out[Chunk::tiz][c]);
-      torque[j] += AngVec(out[Chunk::tjx][c], out[Chunk::tjy][c], out[Chunk::tjz][c]);
+      if constexpr (D::dim == 3) {
+        const Vec f(out[fx][c], out[fx + 1][c], out[fx + 2][c]);
+        force[i] += f;
+        force[j] -= f;
+        torque[i] += AngVec(out[tix][c], out[tix + 1][c], out[tix + 2][c]);
+        torque[j] += AngVec(out[tjx][c], out[tjx + 1][c], out[tjx + 2][c]);
+      } else {
+        const Vec f(out[fx][c], out[fx + 1][c]);
+        force[i] += f;
+        force[j] -= f;
+        torque[i] += out[tix][c];
+        torque[j] += out[tjx][c];
+      }
     }
     acc.contacts += chunk.count;
     chunk.count = 0;

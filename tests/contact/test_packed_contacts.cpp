@@ -517,8 +517,8 @@ TEMPLATE_TEST_CASE("Packed contact evaluation equals the one-at-a-time evaluatio
 TEST_CASE("Models with a scalar-only slot are not packed", "[contact][packed]") {
   STATIC_REQUIRE_FALSE(contact::HertzMindlinLegacy::lanes);      // displacement history, SpringOnly
   STATIC_REQUIRE_FALSE(contact::LinearSpringDashpot::lanes);     // displacement history
-  STATIC_REQUIRE_FALSE(contact::LinearCoulombRolling::lanes);    // incremental Coulomb
-  STATIC_REQUIRE_FALSE(Simulation<Dim2, contact::HertzMindlin>::kPackable);  // 2D
+  STATIC_REQUIRE(contact::LinearCoulombRolling::lanes);           // incremental Coulomb is packed
+  STATIC_REQUIRE(Simulation<Dim2, contact::HertzMindlin>::kPackable);  // 2D too (test_packed_contacts_2d.cpp)
   STATIC_REQUIRE(Simulation<Dim3, contact::HertzMindlin>::kPackable);
   STATIC_REQUIRE_FALSE(Simulation<Dim3, contact::HertzMindlin, neighbours::VerletList,
                                   integrators::VelocityVerletPredictedDamping>::kPackable);

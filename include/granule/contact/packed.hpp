@@ -1,5 +1,5 @@
 #pragma once
-// Packed evaluation of 3D particle-pair contacts: W contacts through one law call.
+// Packed evaluation of particle-pair contacts (3D and 2D): W contacts through one law call.
 //
 // The engine's packed pair loop (Simulation, docs/architecture.md "Packed contacts") runs in
 // three passes over a cell layer:
@@ -25,17 +25,21 @@
 
 namespace granule::contact {
 
-/// Copies a contact history between its stored form (State<Dim3>, doubles) and its packed form
-/// (State<Dim3Lanes>, one pack per double). Both are aggregates of the same members in the
-/// same order, so the packed form is the stored one with every double widened to a pack.
+/// Copies a contact history between its stored form (State<Dim3> or State<Dim2>, doubles) and
+/// its packed form (State<Dim3Lanes> or State<Dim2Lanes>, one pack per double). Both are
+/// aggregates of the same members in the same order, so the packed form is the stored one with
+/// every double widened to a pack. The stored form may end in padding: a 2D history of an
+/// Eigen::Vector2d (aligned to 16 bytes) and one double takes 32 bytes for its 3 doubles.
 template <class Stored, class Packed>
 struct PackedState {
-  static constexpr std::size_t doubles = sizeof(Stored) / sizeof(double);
+  static constexpr std::size_t doubles = sizeof(Packed) / sizeof(Lane);
   // (Eigen's fixed-size vectors are plain arrays of doubles, but declare copy constructors, so
   // they are not formally trivially copyable; the checkpoints copy them as bytes too.)
-  static_assert(sizeof(Stored) == doubles * sizeof(double), "a packed history must consist of doubles");
-  static_assert(sizeof(Packed) == doubles * sizeof(Lane),
-                "the packed history must widen every double of the stored one to a pack");
+  static_assert(sizeof(Packed) == doubles * sizeof(Lane), "a packed history must consist of packs");
+  static_assert(sizeof(Stored) >= doubles * sizeof(double) &&
+                    sizeof(Stored) - doubles * sizeof(double) < alignof(Stored),
+                "the packed history must widen every double of the stored one to a pack (padding "
+                "only at the end of the stored one)");
 
   static void load(Packed& out, const Stored* const* in) {
     const double* rec[lane_width];
@@ -54,8 +58,9 @@ struct PackedState {
   }
 };
 
-/// What the packed geometry reads of the particles: pointers to the store's arrays (3D vectors
-/// as 3 consecutive doubles each, indexed by particle slot, ghosts included).
+/// What the packed geometry reads of the particles: pointers to the store's arrays, indexed by
+/// particle slot, ghosts included. Vectors are dim consecutive doubles each (3D: x, v, omega as
+/// 3-vectors; 2D: x and v as 2-vectors, omega one double, its z component).
 struct PackedParticles {
   const double* x;
   const double* v;
@@ -64,18 +69,31 @@ struct PackedParticles {
   const double* inv_mass;
 };
 
-/// One chunk of touching pairs: their particle slots and history slots, and the results.
-/// Capacity: a multiple of the lane width.
-template <std::size_t Capacity>
+/// Lanes of a 2-vector: lane l = the 2 doubles at base + 2 idx[l] (an array of 2-vectors).
+inline LaneVec2 gather_vec2_lanes(const double* base, const std::uint32_t* idx) {
+  const double* rec[lane_width];
+  for (std::size_t l = 0; l < lane_width; ++l) rec[l] = base + 2 * static_cast<std::size_t>(idx[l]);
+  Lane out[2];
+  transpose_in<2>(rec, out);
+  return {out[0], out[1]};
+}
+
+/// One chunk of touching pairs of dimension Dim (2 or 3): their particle slots and history
+/// slots, and the results. Capacity: a multiple of the lane width.
+template <std::size_t Capacity, int Dim = 3>
 struct PairChunk {
   static_assert(Capacity % lane_width == 0);
+  static_assert(Dim == 2 || Dim == 3);
   static constexpr std::size_t capacity = Capacity;
+  using LD = std::conditional_t<Dim == 2, Dim2Lanes, Dim3Lanes>;
   // Inputs, listed in pass 1. (Until 2026-12-03 pass 1 also copied 16 doubles of particle data
   // per pair into the chunk; pass 2 now reads them from the particle arrays itself.)
   std::uint32_t i[Capacity], j[Capacity];
   std::uint32_t history[Capacity];  ///< history slot of each contact (PairList::slot)
-  // Outputs of pass 2: force on i, torques on i and j.
-  enum Out { fx, fy, fz, tix, tiy, tiz, tjx, tjy, tjz, outs };
+  // Outputs of pass 2, rows of out: force on i (Dim rows from fx), torques on i and j (3 rows
+  // each in 3D, from tix and tjx; one row each in 2D, the z component).
+  static constexpr std::size_t ang = Dim == 3 ? 3 : 1;
+  static constexpr std::size_t fx = 0, tix = Dim, tjx = Dim + ang, outs = Dim + 2 * ang;
   alignas(64) double out[outs][Capacity];
   std::size_t count = 0;
   std::size_t params = 0;  ///< index of the pair parameters every contact of the chunk shares
@@ -93,29 +111,65 @@ struct PairChunk {
     }
   }
 
-  void store(Out o, std::size_t k, const Lane& v) { v.copy_to(&out[o][k], stdx::vector_aligned); }
-  void store3(Out o, std::size_t k, const LaneVec3& v) {
-    store(o, k, v.x);
-    store(Out(o + 1), k, v.y);
-    store(Out(o + 2), k, v.z);
+  void store(std::size_t row, std::size_t k, const Lane& v) { v.copy_to(&out[row][k], stdx::vector_aligned); }
+  void store_vec(std::size_t row, std::size_t k, const LaneVec3& v) {
+    store(row, k, v.x);
+    store(row + 1, k, v.y);
+    store(row + 2, k, v.z);
+  }
+  void store_vec(std::size_t row, std::size_t k, const LaneVec2& v) {
+    store(row, k, v.x);
+    store(row + 1, k, v.y);
+  }
+  /// Force and torques of the W contacts starting at k.
+  void store_force(std::size_t k, const ContactForce<LD>& cf) {
+    store_vec(fx, k, cf.force);
+    if constexpr (Dim == 3) {
+      store_vec(tix, k, cf.torque_i);
+      store_vec(tjx, k, cf.torque_j);
+    } else {
+      store(tix, k, cf.torque_i);
+      store(tjx, k, cf.torque_j);
+    }
   }
 
   /// Geometry of the W contacts starting at k (as Simulation::pair_geometry for one contact).
   /// `RollingInertia` and `Twist` say whether the model needs i_roll and the twist angle.
   template <bool RollingInertia, bool Twist>
-  void geometry(std::size_t k, const PackedParticles& p, double dt, ContactGeometry<Dim3Lanes>& g) const {
+  void geometry(std::size_t k, const PackedParticles& p, double dt, ContactGeometry<LD>& g) const {
     using std::sqrt;
+    using V = typename LD::Vec;
+    using AngV = typename LD::AngVec;
     const std::uint32_t* const ik = &i[k];
     const std::uint32_t* const jk = &j[k];
-    const LaneVec3 d = gather_vec3_lanes(p.x, ik) - gather_vec3_lanes(p.x, jk);
+    const auto vec = [](const double* base, const std::uint32_t* idx) -> V {
+      if constexpr (Dim == 3) {
+        return gather_vec3_lanes(base, idx);
+      } else {
+        return gather_vec2_lanes(base, idx);
+      }
+    };
+    const auto ang_vec = [&](const std::uint32_t* idx) -> AngV {
+      if constexpr (Dim == 3) {
+        return gather_vec3_lanes(p.omega, idx);
+      } else {
+        return gather_lanes(p.omega, idx);
+      }
+    };
+    const V d = vec(p.x, ik) - vec(p.x, jk);
     const Lane r_i = gather_lanes(p.radius, ik), r_j = gather_lanes(p.radius, jk);
     const Lane rs = r_i + r_j;
     const Lane dist = sqrt(d.squaredNorm());
     const LaneMask apart = dist > 0.0;
     g.distance = dist;
-    // Coincident centres (dist = 0) get the normal +z, as in the scalar geometry.
-    g.n = {select(apart, d.x / dist, Lane(0.0)), select(apart, d.y / dist, Lane(0.0)),
-           select(apart, d.z / dist, Lane(1.0))};
+    // Coincident centres (dist = 0) get the normal along the last axis (+z, 2D: +y), as in the
+    // scalar geometry.
+    if constexpr (Dim == 3) {
+      g.n = {select(apart, d.x / dist, Lane(0.0)), select(apart, d.y / dist, Lane(0.0)),
+             select(apart, d.z / dist, Lane(1.0))};
+    } else {
+      g.n = {select(apart, d.x / dist, Lane(0.0)), select(apart, d.y / dist, Lane(1.0))};
+    }
     g.overlap = rs - dist;
     g.r_i = r_i;
     g.r_j = r_j;
@@ -124,21 +178,21 @@ struct PairChunk {
     g.r_eff = r_i * r_j / rs;
     const Lane im_i = gather_lanes(p.inv_mass, ik), im_j = gather_lanes(p.inv_mass, jk);
     g.m_eff = 1.0 / (im_i + im_j);
-    const LaneVec3 w_i = gather_vec3_lanes(p.omega, ik), w_j = gather_vec3_lanes(p.omega, jk);
-    const LaneVec3 dv = gather_vec3_lanes(p.v, ik) - gather_vec3_lanes(p.v, jk);
-    g.v_rel = dv - (g.arm_i * w_i.cross(g.n) + g.arm_j * w_j.cross(g.n));
+    const AngV w_i = ang_vec(ik), w_j = ang_vec(jk);
+    const V dv = vec(p.v, ik) - vec(p.v, jk);
+    g.v_rel = dv - (g.arm_i * LD::cross(w_i, g.n) + g.arm_j * LD::cross(w_j, g.n));
     g.vn = g.v_rel.dot(g.n);
     g.vt = g.v_rel - g.vn * g.n;
     g.omega_rel = w_i - w_j;
     g.damp_at_kinematic_velocity();
     if constexpr (RollingInertia) {
-      const double k1 = Dim3Lanes::inertia_factor + 1.0;
+      const double k1 = LD::inertia_factor + 1.0;
       g.i_roll = 1.0 / (im_i / (k1 * r_i * r_i) + im_j / (k1 * r_j * r_j));
     } else {
       g.i_roll = 0.0;
     }
     g.dt = dt;
-    if constexpr (Twist) {
+    if constexpr (Twist && Dim == 3) {
       g.twist = 0.5 * (w_i + w_j).dot(g.n) * g.dt;
     } else {
       g.twist = 0.0;

@@ -12,7 +12,7 @@
 // scene B, was 5 % slower than one entry at a time; the stream with AVX2 made scene B 10-13 %
 // faster on a Zen 3 machine, probably because rows of varying length end in a mispredicted
 // branch; that VM has no branch counters to confirm it.) Elsewhere one entry at a time.
-// Both sum the squared distance as x*x + (y*y + z*z), the order of Eigen's squaredNorm; a pair
+// Both sum the squared distance as x*x + (y*y + z*z) (2D: x*x + y*y), the order of Eigen's squaredNorm; a pair
 // touching to within a rounding error may still come out differently where the compiler fuses
 // multiply-adds differently in the two.
 #include <bit>
@@ -24,7 +24,7 @@
 
 namespace granule::contact {
 
-/// What a scan reads: 3-vector positions and radii by particle slot, the list's rows and
+/// What a scan reads: positions (Dim doubles each) and radii by particle slot, the list's rows and
 /// partners, and its history slots (nullptr for a model without history).
 struct TouchScanInput {
   const double* x;
@@ -37,20 +37,27 @@ struct TouchScanInput {
 
 /// One entry at a time: lists the touching entries of rows [r0, r1) in `touching` (entry
 /// index) and `rows` (its row) and returns their number; calls `move_slot(e, touch)` in entry
-/// order for each entry whose history slot must change.
-template <class MoveSlot>
+/// order for each entry whose history slot must change. Dim: 3 (spheres) or 2 (disks).
+template <int Dim = 3, class MoveSlot>
 inline std::size_t scan_rows_scalar(const TouchScanInput& in, std::uint32_t r0, std::uint32_t r1,
                                     std::uint32_t* touching, std::uint32_t* rows, MoveSlot&& move_slot) {
   std::size_t nt = 0;
   for (std::uint32_t i = r0; i < r1; ++i) {
-    const double* const xi = in.x + 3 * static_cast<std::size_t>(i);
+    const double* const xi = in.x + Dim * static_cast<std::size_t>(i);
     const double ri = in.radius[i];
     for (std::uint32_t e = in.row_begin[i]; e < in.row_begin[i + 1]; ++e) {
       const std::uint32_t j = in.nbr[e];
-      const double* const xj = in.x + 3 * static_cast<std::size_t>(j);
-      const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+      const double* const xj = in.x + Dim * static_cast<std::size_t>(j);
+      const double dx = xi[0] - xj[0], dy = xi[1] - xj[1];
       const double rs = ri + in.radius[j];
-      const bool touch = dx * dx + (dy * dy + dz * dz) < rs * rs;
+      double d2;
+      if constexpr (Dim == 3) {
+        const double dz = xi[2] - xj[2];
+        d2 = dx * dx + (dy * dy + dz * dz);
+      } else {
+        d2 = dx * dx + dy * dy;
+      }
+      const bool touch = d2 < rs * rs;
       // Slots move only where the touch changed since the last step: a predictable branch.
       if (in.slot != nullptr && touch == (in.slot[e] == in.no_slot)) move_slot(e, touch);
       // Every entry is written at the count, which only a touching one advances.
@@ -132,7 +139,7 @@ inline constexpr bool kPackedTouchScan = detail::kStreamScan;
 
 /// As scan_rows_scalar, W entries at a time where the machine has AVX2 or AVX-512. `touching`
 /// and `rows` need room for all entries of the rows plus 8.
-template <class MoveSlot>
+template <int Dim = 3, class MoveSlot>
 inline std::size_t scan_rows(const TouchScanInput& in, std::uint32_t r0, std::uint32_t r1,
                              std::uint32_t* touching, std::uint32_t* rows, MoveSlot&& move_slot) {
 #if defined(__AVX2__) || defined(__AVX512F__)
@@ -168,17 +175,23 @@ inline std::size_t scan_rows(const TouchScanInput& in, std::uint32_t r0, std::ui
       const double* rec_i[W];
       const double* rec_j[W];
       for (std::uint32_t l = 0; l < W; ++l) {
-        rec_i[l] = in.x + 3 * static_cast<std::size_t>(ip[l]);
-        rec_j[l] = in.x + 3 * static_cast<std::size_t>(jp[l]);
+        rec_i[l] = in.x + Dim * static_cast<std::size_t>(ip[l]);
+        rec_j[l] = in.x + Dim * static_cast<std::size_t>(jp[l]);
       }
-      Lane xi[3], xj[3];
-      transpose_in<3>(rec_i, xi);
-      transpose_in<3>(rec_j, xj);
+      Lane xi[Dim], xj[Dim];
+      transpose_in<Dim>(rec_i, xi);
+      transpose_in<Dim>(rec_j, xj);
       const Lane rs =
           gather_lanes<GatherBy::registers>(in.radius, ip) + gather_lanes<GatherBy::registers>(in.radius, jp);
       const detail::IndexPack iv = detail::load_indices(ip);
-      const Lane dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
-      const Lane d2 = dx * dx + (dy * dy + dz * dz);
+      const Lane dx = xi[0] - xj[0], dy = xi[1] - xj[1];
+      Lane d2;
+      if constexpr (Dim == 3) {
+        const Lane dz = xi[2] - xj[2];
+        d2 = dx * dx + (dy * dy + dz * dz);
+      } else {
+        d2 = dx * dx + dy * dy;
+      }
       const unsigned touch = detail::less_bits(d2, rs * rs) & valid;
       if (in.slot != nullptr) {
         const unsigned none = detail::equal_bits(in.slot + e, count, in.no_slot);
@@ -195,7 +208,7 @@ inline std::size_t scan_rows(const TouchScanInput& in, std::uint32_t r0, std::ui
     return nt;
   }
 #endif
-  return scan_rows_scalar(in, r0, r1, touching, rows, static_cast<MoveSlot&&>(move_slot));
+  return scan_rows_scalar<Dim>(in, r0, r1, touching, rows, static_cast<MoveSlot&&>(move_slot));
 }
 
 }  // namespace granule::contact

@@ -5,9 +5,9 @@
 // which a vector unit does 4-4.5x faster per element than the scalar one. So the laws that can
 // are written once over a *real type* R: `double` for one contact, or `Lane` -- a pack of W
 // doubles (std::experimental::simd at the machine's native width; W = 8 with AVX-512, 2 with
-// SSE2) -- for W contacts at once. Dim3Lanes is the dimension policy of the packed form: its
-// vectors hold one pack per axis (LaneVec3), with the few Eigen-like members the laws use
-// (dot, cross, squaredNorm), so a law reads the same for both.
+// SSE2) -- for W contacts at once. Dim3Lanes and Dim2Lanes are the dimension policies of the
+// packed form: their vectors hold one pack per axis (LaneVec3, LaneVec2), with the few
+// Eigen-like members the laws use (dot, cross, squaredNorm), so a law reads the same for all.
 //
 // Laws are branch-free in the packed form: where a scalar law would write `if (c) x = f();`
 // it writes `where_assign(c, x, [&] { return f(); })`. For a scalar `c` that is the `if` itself
@@ -47,6 +47,41 @@ struct LaneVec3 {
   friend LaneVec3 operator*(const LaneVec3& a, double s) { return a * Lane(s); }
 };
 
+/// A 2-vector of packs (the in-plane vectors of W 2D contacts).
+struct LaneVec2 {
+  Lane x, y;
+
+  Lane dot(const LaneVec2& b) const { return x * b.x + y * b.y; }
+  Lane squaredNorm() const { return x * x + y * y; }
+  LaneVec2& operator+=(const LaneVec2& b) { x += b.x; y += b.y; return *this; }
+  LaneVec2& operator-=(const LaneVec2& b) { x -= b.x; y -= b.y; return *this; }
+  LaneVec2& operator*=(const Lane& s) { x *= s; y *= s; return *this; }
+  friend LaneVec2 operator+(const LaneVec2& a, const LaneVec2& b) { return {a.x + b.x, a.y + b.y}; }
+  friend LaneVec2 operator-(const LaneVec2& a, const LaneVec2& b) { return {a.x - b.x, a.y - b.y}; }
+  friend LaneVec2 operator-(const LaneVec2& a) { return {-a.x, -a.y}; }
+  friend LaneVec2 operator*(const Lane& s, const LaneVec2& a) { return {s * a.x, s * a.y}; }
+  friend LaneVec2 operator*(const LaneVec2& a, const Lane& s) { return {a.x * s, a.y * s}; }
+  friend LaneVec2 operator*(double s, const LaneVec2& a) { return Lane(s) * a; }
+  friend LaneVec2 operator*(const LaneVec2& a, double s) { return a * Lane(s); }
+};
+
+/// Dimension policy of W packed 2D contacts (see Dim<2>, core/dimension.hpp): angular
+/// velocities and torques are one pack (their z component).
+struct Dim2Lanes {
+  static constexpr int dim = 2;
+  using Real = Lane;
+  using Vec = LaneVec2;
+  using AngVec = Lane;
+  static constexpr double inertia_factor = 0.5;
+  static Vec zero() { return {Lane(0.0), Lane(0.0)}; }
+  static AngVec zero_ang() { return Lane(0.0); }
+  /// omega x r for a rotation about z.
+  static Vec cross(const AngVec& w, const Vec& r) { return {-w * r.y, w * r.x}; }
+  /// z component of a x b.
+  static AngVec cross(const Vec& a, const Vec& b) { return a.x * b.y - a.y * b.x; }
+  static Real squared_norm(const AngVec& w) { return w * w; }
+};
+
 /// Dimension policy of W packed 3D contacts (see Dim<3>, core/dimension.hpp).
 struct Dim3Lanes {
   static constexpr int dim = 3;
@@ -59,6 +94,10 @@ struct Dim3Lanes {
   static Vec cross(const Vec& a, const Vec& b) { return a.cross(b); }
   static Real squared_norm(const AngVec& w) { return w.squaredNorm(); }
 };
+
+/// The packed policy of a dimension: LanesOf<Dim<2>> is Dim2Lanes, LanesOf<Dim<3>> Dim3Lanes.
+template <class D>
+using LanesOf = std::conditional_t<D::dim == 2, Dim2Lanes, Dim3Lanes>;
 
 /// `if (c) target = f();` -- the scalar form.
 template <class T, class F>
@@ -82,6 +121,15 @@ inline void where_assign(const LaneMask& c, LaneVec3& target, F&& f) {
     stdx::where(c, target.x) = v.x;
     stdx::where(c, target.y) = v.y;
     stdx::where(c, target.z) = v.z;
+  }
+}
+
+template <class F>
+inline void where_assign(const LaneMask& c, LaneVec2& target, F&& f) {
+  if (stdx::any_of(c)) {
+    const LaneVec2 v = f();
+    stdx::where(c, target.x) = v.x;
+    stdx::where(c, target.y) = v.y;
   }
 }
 

@@ -31,14 +31,19 @@ struct IncrementalCoulombTangential {
   };
   static Params make(const PairMaterial& p) { return {p.kt_ratio, p.mu_s}; }
 
+  static constexpr bool lanes = true;  ///< eval is written over D::Real (core/lanes.hpp)
   template <class D>
-  static typename D::Vec eval(const Params& p, const ContactGeometry<D>& g, const NormalResult& nr,
+  static typename D::Vec eval(const Params& p, const ContactGeometry<D>& g, const NormalResultOf<D>& nr,
                               State<D>& s) {
+    using std::abs;
+    using std::sqrt;
+    using R = typename D::Real;
+    using V = typename D::Vec;
     rotate_history<D>(s.ft, g);
     s.ft -= p.ratio * nr.kn * g.dt * g.vt;
-    const double limit = p.mu_s * std::abs(nr.fn);
-    const double f2 = s.ft.squaredNorm();
-    if (f2 > limit * limit) s.ft *= limit / std::sqrt(f2);
+    const R limit = p.mu_s * abs(nr.fn);
+    const R f2 = s.ft.squaredNorm();
+    where_assign(f2 > limit * limit, s.ft, [&]() -> V { return s.ft * R(limit / sqrt(f2)); });
     return s.ft;
   }
   /// Energy stored in the tangential spring, |F_t|^2 / (2 k_t) [J].
