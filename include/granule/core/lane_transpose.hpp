@@ -58,6 +58,19 @@ template <int h>
 inline __m256d half(__m512d a) { return _mm512_mask_extractf64x4_pd(_mm256_setzero_pd(), 0xF, a, h); }
 // Columns [c, c + m) of 8 records (m <= 4) -> out[0..m).
 inline void transpose_in_block(const double* const* rec, std::size_t c, std::size_t m, Lane* out) {
+  if (m == 2) {
+    // Two columns (a 2D position or velocity): one 16-byte load per record, records 0 2 4 6
+    // and 1 3 5 7 side by side, then one unpack per column (the masked 32-byte loads cost
+    // 4 % of a 2D step).
+    const auto two = [&](std::size_t l) { return _mm_loadu_pd(rec[l] + c); };
+    const auto four = [&](std::size_t a) {  // (records a, a + 2, a + 4, a + 6)
+      return pair(_mm256_set_m128d(two(a + 2), two(a)), _mm256_set_m128d(two(a + 6), two(a + 4)));
+    };
+    const __m512d even = four(0), odd = four(1);
+    out[0] = Lane(unpacklo(even, odd));
+    out[1] = Lane(unpackhi(even, odd));
+    return;
+  }
   const __mmask8 mask = static_cast<__mmask8>((1u << m) - 1u);
   __m256d r[8];
   for (std::size_t l = 0; l < 8; ++l) r[l] = _mm256_maskz_loadu_pd(mask, rec[l] + c);
@@ -108,6 +121,15 @@ inline __m256i avx2_mask(std::size_t m) {
 // the masked load: scenes B and A 20k ran 1.5-3 % faster on a Zen 3 VM. The stores do the
 // same (neutral on A 20k within the noise, +1 %).
 inline void transpose_in_block(const double* const* rec, std::size_t c, std::size_t m, Lane* out) {
+  if (m == 2) {  // (records 0 2 | 1 3, one unpack per column)
+    const auto two = [&](std::size_t a, std::size_t b) {
+      return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(rec[a] + c)), _mm_loadu_pd(rec[b] + c), 1);
+    };
+    const __m256d even = two(0, 2), odd = two(1, 3);
+    out[0] = Lane(_mm256_unpacklo_pd(even, odd));
+    out[1] = Lane(_mm256_unpackhi_pd(even, odd));
+    return;
+  }
   if (m == 3) {
     const auto two = [&](std::size_t a, std::size_t b) {  // (rec a 0 1 | rec b 0 1)
       return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(rec[a] + c)), _mm_loadu_pd(rec[b] + c), 1);
