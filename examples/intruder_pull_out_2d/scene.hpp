@@ -1,9 +1,9 @@
 #pragma once
 // A thin intruder pulled up out of a 2D bed of disks at constant speed (Mandato, Cuq, Ruiz,
 // Dirrenberger & Fakih et al., "intruder pull-out ... coarse-graining", paper 002 in
-// shared/papers; sections 2.3-2.4, 3 and 4).
+// shared/papers; sections 2.3-2.5, 3 and 4).
 //
-// Scene logic shared by main.cpp and tests/examples/test_intruder_pull_out_2d.cpp:
+// Scene logic shared by main.cpp, study.hpp and tests/examples/test_intruder_pull_out_2d.cpp:
 //  * build: a cell of width W closed by sphero-line walls (floor and two sides, 002 section 2.3
 //    "Walls and intruder"), the intruder as a horizontal sphero-line of length L on its own Body,
 //    lying just above the floor (gap < d_min, so no disk gets under it);
@@ -18,33 +18,53 @@
 //    the former filling, looser) and a reduced friction during the filling (fill_friction: the
 //    scene is rebuilt with the same disks and mu before the final settling). The number of
 //    disks is 002's, 1600 per 100 mm x 150 mm of bed; the packing fraction is measured after
-//    settling (measure_packing: analysis/packing.hpp, exact disk-bin areas);
+//    settling (measure_packing: analysis/packing.hpp, exact disk-bin areas). A settled bed can
+//    be cached in a checkpoint (save_bed / load_bed), so that pulls at several speeds start
+//    from the same bed;
 //  * pull: the intruder moves up at V; every sample the vertical force of the disks on it,
 //    averaged over the sample's steps, is recorded as the drag F = -F_y (positive when the bed
 //    resists the rise), with the mean friction mobilisation mu* = |ft|/(mu fn) of the bulk and
-//    of the cell walls (002 section 4, force_network.hpp), and at chosen heights the
-//    coarse-grained velocity field divided by V (002 eq. 7-9, coarse_graining.hpp); the power
-//    spectrum (spectrum.hpp, Hann window) of the drag minus its least-squares line.
+//    of the cell walls (002 section 4, force_network.hpp). Every sample the velocity field is
+//    coarse-grained with 002's kernel (section 2.5: Gaussian of width w = 1.5 d, cutoff 4 w,
+//    eq. 4-9; coarse_graining.hpp), divided by V, and split into 002's flow zones with the
+//    opening of the mobile cone measured (section 3.2, analysis/flow_zones.hpp). Velocity maps
+//    are kept at chosen heights, each at the loading peak nearest to it (the sample of largest
+//    drag within d/2 of the height): 002 shows its fields "during loading phases just before
+//    the rupture of force chains" (section 3.2, fig. 8), instantaneous, not time-averaged.
 // Contact law (002 section 2.3): linear normal spring k_n = E d (Material::reference_length =
 // mean diameter), restitution e, incremental Coulomb friction with k_t = k_n / 2, and a rolling
 // resistance standing in for 002's law |M| <= mu d 1e-2 F_n, k_r = d^2 k_n 1e-3. granule's EPSD
 // law has |M| <= mu_r R* F_n and k_r = c k_n mu_r^2 R*^2; for two disks of the mean diameter
 // R* = d/4, which gives mu_r = 4 mu 1e-2 and c = 1e-3 * 16 / (4 mu 1e-2)^2 (exact for equal
 // mean-size pairs only: both EPSD quantities scale with R* of the actual pair).
+// Disk thickness t (masses m = rho pi r^2 t): every force of the scene (contacts, their dashpots,
+// gravity) is proportional to t at a fixed E/t, and every mass too, so the motion depends on E
+// and t only through E/t: the stiffness number kappa (stiffness_number) is the physical
+// parameter, and the drag scales with t. 002 does not state t; its step (section 2.4: dt = 1e-8
+// s = dt_c / 60 with dt_c = sqrt(m_min / k_n), k_n = 1.92e8 N/m) implies m_min = 6.9e-5 kg,
+// i.e. t = 8.8 mm for its lightest disk (d_min = 2 mm): 3 d to the precision of its "1/60"
+// (README, "Time step and disk thickness"). The default is t = 3 d.
 // Coordinates: x across the cell [0, W], y up; the floor surface is y = 0.
 #include <algorithm>
+#include <bit>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <filesystem>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <granule/analysis/coarse_graining.hpp>
+#include <granule/analysis/flow_zones.hpp>
 #include <granule/analysis/force_network.hpp>
 #include <granule/analysis/packing.hpp>
-#include <granule/analysis/spectrum.hpp>
+#include <granule/io/checkpoint.hpp>
 #include <granule/boundaries/geometry/sphero_line.hpp>
 #include <granule/granule.hpp>
 #include <granule/scene/pour.hpp>
@@ -55,6 +75,12 @@ namespace granule::examples::pull_out {
 using Vec = Dim2::Vec;
 using Sim = Simulation<Dim2, contact::LinearCoulombRolling, neighbours::VerletList>;
 
+/// Time step of the pull.
+enum class TimeStepRule {
+  Engine,  ///< 0.2 x linear_critical_time of the two lightest disks: the largest the engine accepts
+  Paper    ///< 002 section 2.4: dt_c / 60 with dt_c = sqrt(m_min / k_n)
+};
+
 /// Every parameter of the scene (defaults: the quick mode; paper_params() gives 002's values).
 struct PullParams {
   double cell_width = 0.040;       ///< W [m]
@@ -62,7 +88,8 @@ struct PullParams {
   double mean_diameter = 3e-3;     ///< d [m]
   double size_ratio = 2.0;         ///< d_max / d_min, radii uniform [-]
   double density = 2500.0;         ///< rho [kg/m^3]
-  double youngs_modulus = 2e7;     ///< E, k_n = E d [Pa]
+  double thickness = 9e-3;         ///< disk thickness t [m]: 3 d, what 002's step implies (file comment)
+  double youngs_modulus = 6e7;     ///< E, k_n = E d [Pa]; at t = 3 d the former quick value 2e7 Pa at t = d
   double friction = 0.5;           ///< mu [-]
   double restitution = 0.9;        ///< e [-]
   double intruder_length = 0.010;  ///< L [m]
@@ -71,6 +98,10 @@ struct PullParams {
   double pull_velocity = 0.02;     ///< V [m/s]
   double sample_travel = 2e-4;     ///< intruder travel between two drag samples [m]
   double fill_time = 1.0;          ///< max settling time after the filling [s]
+  TimeStepRule dt_rule = TimeStepRule::Engine;  ///< step of the pull (the filling always uses Engine)
+  double dt = 0.0;                 ///< explicit step of the pull [s]; 0: from dt_rule
+  double cg_width = 1.5;           ///< coarse-graining kernel width w / d (002 section 2.5: 1.5) [-]
+  double cg_spacing = 0.5;         ///< node spacing of the coarse-grained fields / d [-]
   // Filling (file comment): disks released per second from a region of width fill_source_width
   // centred above the cell, its bottom fill_release_height above the floor, with the friction
   // fill_friction (mu_r in proportion) until the bed has formed; then mu is restored and the bed
@@ -82,7 +113,7 @@ struct PullParams {
   std::uint64_t seed = 1;          ///< insertion seed
 };
 
-/// 002's values: 100 mm cell, 150 mm bed, E = 64 GPa, V = 1.2 mm/s.
+/// 002's values: 100 mm cell, 150 mm bed, E = 64 GPa, V = 1.2 mm/s, its step dt_c / 60.
 inline PullParams paper_params() {
   PullParams p;
   p.cell_width = 0.100;
@@ -90,8 +121,92 @@ inline PullParams paper_params() {
   p.youngs_modulus = 64e9;
   p.pull_velocity = 1.2e-3;
   p.sample_travel = 1e-4;
+  p.dt_rule = TimeStepRule::Paper;
   p.fill_rate = 250.0;  // the quick mode's rate per cell width, i.e. the same surface rise speed
   return p;
+}
+
+/// Packing fraction 002 reports (section 2.4), used for the pressure scale.
+inline constexpr double kPaperPacking = 0.82;
+/// Opening angle of the mobile cone in 002 (section 3.2 c) [deg].
+inline constexpr double kPaperConeAngle = 60.0;
+inline constexpr double kGravity = 9.81;  ///< [m/s^2]
+
+inline double r_min(const PullParams& p) { return p.mean_diameter / (1.0 + p.size_ratio); }
+/// Mass of a disk of radius r [kg].
+inline double disk_mass(const PullParams& p, double r) { return p.density * std::numbers::pi * r * r * p.thickness; }
+/// k_n = E d [N/m] (002 section 2.3).
+inline double normal_stiffness(const PullParams& p) { return p.youngs_modulus * p.mean_diameter; }
+/// The engine's largest step: 0.2 x the linear critical time of the two lightest disks (m* =
+/// m_min / 2). At e = 0.9 it is 3 % below 0.2 x the undamped pi sqrt(m*/k_n): the dashpot lowers
+/// the stability limit (linear_critical_time) [s].
+inline double engine_dt(const PullParams& p) {
+  return 0.2 * linear_critical_time(normal_stiffness(p), 0.5 * disk_mass(p, r_min(p)), p.restitution);
+}
+/// 002's dt_c = sqrt(m_min / k_n), m_min the mass of the lightest disk (section 2.4) [s].
+inline double paper_critical_time(const PullParams& p) {
+  return std::sqrt(disk_mass(p, r_min(p)) / normal_stiffness(p));
+}
+/// Step of the pull [s].
+inline double pull_dt(const PullParams& p) {
+  if (p.dt > 0.0) return p.dt;
+  return p.dt_rule == TimeStepRule::Paper ? paper_critical_time(p) / 60.0 : engine_dt(p);
+}
+/// Pressure scale p = rho phi g H at the floor of a bed of height H at 002's packing [Pa].
+inline double pressure_scale(const PullParams& p) { return p.density * kPaperPacking * kGravity * p.bed_height; }
+/// Stiffness number kappa = k_n / (p t): the 2D contact force on a disk of the bed's floor is of
+/// order p d t, its overlap delta = p d t / k_n, so delta / d = 1 / kappa (the 2D kappa = k_n / P
+/// of da Cruz et al. 2005, Phys. Rev. E 72 021309, with the 2D pressure P = p t in N/m) [-].
+inline double stiffness_number(const PullParams& p) { return normal_stiffness(p) / (pressure_scale(p) * p.thickness); }
+/// Inertial number of the pull I = (V / d) d sqrt(rho / p) = V / sqrt(phi g H): the shear rate
+/// V / d over the confinement rate sqrt(p / rho) / d (GDR MiDi 2004); independent of t [-].
+inline double inertial_number(const PullParams& p) {
+  return p.pull_velocity / std::sqrt(kPaperPacking * kGravity * p.bed_height);
+}
+/// 002's H1 = (W - L) / 2 tan(beta) (section 3.2 c): the rise over which edges of inclination beta
+/// from the intruder's tips reach the side walls. 002 uses it as an intruder height: below it the
+/// cone is truncated by the walls; above it the mobility near the walls is lost and mu* falls
+/// towards 0.24 (section 4, fig. 13). 78 mm for W = 100 mm, L = 10 mm, beta = 60 deg [m].
+inline double h1_height(const PullParams& p, double beta_deg = kPaperConeAngle) {
+  return 0.5 * (p.cell_width - p.intruder_length) * std::tan(beta_deg * std::numbers::pi / 180.0);
+}
+/// Number of disks: 002's count per cell area, 1600 disks for a 100 mm x 150 mm bed (section 2.4).
+inline std::size_t disk_count(const PullParams& p) {
+  return static_cast<std::size_t>(std::lround(1600.0 * p.cell_width * p.bed_height / (0.100 * 0.150)));
+}
+/// Top of the region that is closed by walls and holds the release region [m].
+inline double cell_top(const PullParams& p) {
+  const double release = p.fill_release_height > 0.0 ? p.fill_release_height : 3.0 * p.bed_height;
+  return p.fill_rate > 0.0 ? release + 20.0 * p.mean_diameter : 5.0 * p.bed_height;
+}
+
+/// Estimated steps of a run, before it runs.
+struct CostEstimate {
+  std::size_t particles = 0;
+  double fill_time = 0.0;        ///< simulated time of filling and settling [s]
+  double pull_travel = 0.0;      ///< [m]
+  double fill_dt = 0.0, pull_dt = 0.0;  ///< [s]
+  double fill_steps = 0.0, pull_steps = 0.0;
+  /// Wall time at `ns` nanoseconds per particle-step [s] (without the fill when `cached`).
+  double seconds(double ns, bool cached = false) const {
+    return ns * 1e-9 * static_cast<double>(particles) * ((cached ? 0.0 : fill_steps) + pull_steps);
+  }
+};
+
+/// Steps of filling (n / rate + the fall of the last disk + 0.2 s of landing + ~0.2 s of settling:
+/// 7.1 s simulated for 1600 disks at 250 /s, measured) and of the pull (from the rest height to the
+/// top of the bed, about 0.96 H, plus d).
+inline CostEstimate estimate_cost(const PullParams& p) {
+  CostEstimate c;
+  c.particles = disk_count(p);
+  const double fall = std::sqrt(2.0 * cell_top(p) / kGravity) + 0.2;
+  c.fill_time = (p.fill_rate > 0.0 ? static_cast<double>(c.particles) / p.fill_rate : 0.0) + fall + 0.2;
+  c.pull_travel = 0.96 * p.bed_height + p.mean_diameter - (0.5 * r_min(p) + p.intruder_radius);
+  c.fill_dt = engine_dt(p);
+  c.pull_dt = pull_dt(p);
+  c.fill_steps = c.fill_time / c.fill_dt;
+  c.pull_steps = c.pull_travel / (p.pull_velocity * c.pull_dt);
+  return c;
 }
 
 /// Rolling parameters of the EPSD law matching 002's rolling law at the mean size (file comment).
@@ -128,12 +243,16 @@ struct PullScene {
   std::size_t particles = 0;
   bool settled = false;
   double fill_sim_time = 0.0; ///< simulated time of the filling and settling [s]
+  double bed_mass = 0.0;      ///< mass of all disks [kg]
+  std::uint64_t fill_steps = 0;  ///< steps of the filling and settling
+  double fill_wall_seconds = 0.0;  ///< wall time of the filling and settling (0 when read from a cache) [s]
+  bool from_cache = false;    ///< the bed was read from a checkpoint
   PackingReport packing;      ///< measured after settling
-  /// Height of the intruder axis at time t of the pull [m].
+  /// Height of the intruder axis [m].
   double intruder_height() const { return sim->body(intruder_body).pose.translation().y(); }
+  /// Weight of the bed above the intruder's length, M g L / W: the scale of the drag [N].
+  double column_weight() const { return bed_mass * kGravity * params.intruder_length / params.cell_width; }
 };
-
-inline double r_min(const PullParams& p) { return p.mean_diameter / (1.0 + p.size_ratio); }
 
 /// Packing fractions and mean surface of the bed in `sim` (see PackingReport).
 inline PackingReport measure_packing(const Sim& sim, const PullParams& p) {
@@ -179,14 +298,10 @@ inline std::unique_ptr<Sim> make_cell(const PullParams& p, double mu, double top
   SimulationConfig<Dim2> cfg;
   cfg.domain.lo = Vec(-0.01, -0.01);
   cfg.domain.hi = Vec(w + 0.01, domain_top + 0.01);
-  cfg.gravity = Vec(0.0, -9.81);
-  cfg.thickness = p.mean_diameter;
-  const double m_min = p.density * std::numbers::pi * rmin * rmin * cfg.thickness;  // [kg]
-  const double kn = p.youngs_modulus * p.mean_diameter;                            // [N/m]
-  // The largest step the engine accepts: 0.2 x the linear critical time of the two lightest
-  // disks (m* = m/2). At e = 0.9 it is 3 % below 0.2 x the undamped pi sqrt(m*/k_n): the dashpot
-  // lowers the stability limit (linear_critical_time).
-  cfg.dt = 0.2 * linear_critical_time(kn, 0.5 * m_min, p.restitution);
+  cfg.gravity = Vec(0.0, -kGravity);
+  cfg.thickness = p.thickness;
+  // The filling runs at the engine's largest step (engine_dt); pull() sets the pull's step.
+  cfg.dt = engine_dt(p);
   auto sim = std::make_unique<Sim>(cfg);
 
   Material glass;
@@ -241,6 +356,13 @@ inline PullScene build(const PullParams& p,
   require(p.fill_rate >= 0.0, "pull_out::build", "fill_rate", p.fill_rate, "[0, inf) 1/s");
   require(p.fill_source_width >= 0.0, "pull_out::build", "fill_source_width", p.fill_source_width, "[0, inf) m");
   require(p.fill_release_height >= 0.0, "pull_out::build", "fill_release_height", p.fill_release_height, "[0, inf) m");
+  require_positive(p.thickness, "pull_out::build", "thickness");
+  require_positive(p.youngs_modulus, "pull_out::build", "youngs_modulus");
+  require_positive(p.density, "pull_out::build", "density");
+  require_positive(p.cg_width, "pull_out::build", "cg_width");
+  require_positive(p.cg_spacing, "pull_out::build", "cg_spacing");
+  require(p.dt >= 0.0 && std::isfinite(p.dt), "pull_out::build", "dt", p.dt, "[0, inf) s");
+  const auto wall_start = std::chrono::steady_clock::now();
   PullScene s;
   s.params = p;
   const double rmin = r_min(p), rmax = p.size_ratio * rmin;
@@ -251,7 +373,7 @@ inline PullScene build(const PullParams& p,
   // fill_release_height above the floor.
   const double release = p.fill_release_height > 0.0 ? p.fill_release_height : 3.0 * p.bed_height;
   const double slab = 20.0 * p.mean_diameter;
-  const double top = stream ? release + slab : 5.0 * p.bed_height;
+  const double top = cell_top(p);
   const double mu_fill = p.fill_friction >= 0.0 ? p.fill_friction : p.friction;
   const bool restore = mu_fill != p.friction;
 
@@ -259,8 +381,7 @@ inline PullScene build(const PullParams& p,
   s.sim = detail::make_cell(p, mu_fill, top, top, s, mat);
   Sim* sim = s.sim.get();
 
-  // Number of disks: 002's count per cell area, 1600 disks for a 100 mm x 150 mm bed (section 2.4).
-  const auto n = static_cast<std::size_t>(std::lround(1600.0 * w * p.bed_height / (0.100 * 0.150)));
+  const std::size_t n = disk_count(p);
   auto report = [&] { if (on_progress) on_progress(sim->step_count(), sim->time()); };
   if (!stream) {
     geometry::Aabb<Dim2> region{Vec(rmax, 1.0 * p.bed_height), Vec(w - rmax, top - rmax)};
@@ -291,7 +412,7 @@ inline PullScene build(const PullParams& p,
   s.particles = n;
 
   // Fall (and, for a stream, the last disks' fall), then settle with periodic velocity zeroing.
-  const double fall = std::sqrt(2.0 * top / 9.81) + 0.2;  // [s]
+  const double fall = std::sqrt(2.0 * top / kGravity) + 0.2;  // [s]
   const auto steps = static_cast<std::uint64_t>(fall / sim->dt());
   for (std::uint64_t k = 0; k < steps; k += 1000) {
     sim->run(1000);
@@ -300,7 +421,12 @@ inline PullScene build(const PullParams& p,
   scene::SettleOptions so;
   so.max_time = p.fill_time;
   so.zero_velocity_interval = 0.05;
-  so.kinetic_energy_per_particle = 1e-12;
+  // Quiet below 6.2e-7 m g d per disk (m: the mean disk mass): 1e-12 J for disks 3 mm thick (the
+  // former fixed threshold). In proportion to the mass so that a scene with E and t scaled
+  // together settles at the same instant and moves the same way (file comment).
+  const double mean_r2 = (rmin * rmin + rmin * rmax + rmax * rmax) / 3.0;  // radii uniform in [rmin, rmax]
+  so.kinetic_energy_per_particle = 6.2e-7 * p.density * std::numbers::pi * mean_r2 * p.thickness * kGravity *
+                                   p.mean_diameter;
   so.check_interval = 0.01;
   so.on_check = [&](double, double) { report(); };
   if (restore) {
@@ -312,6 +438,7 @@ inline PullScene build(const PullParams& p,
     const auto& q = sim->particles();
     std::vector<Vec> xs(q.x.begin(), q.x.begin() + q.owned());
     std::vector<double> rs(q.radius.begin(), q.radius.begin() + q.owned());
+    s.fill_steps = sim->step_count();
     s.sim = detail::make_cell(p, p.friction, top, top, s, mat);
     sim = s.sim.get();
     for (std::size_t i = 0; i < xs.size(); ++i) sim->add_particle(xs[i], rs[i], mat);
@@ -319,54 +446,230 @@ inline PullScene build(const PullParams& p,
   }
   s.settled = scene::settle(*sim, so).settled;
   s.fill_sim_time += sim->time();
+  s.fill_steps += sim->step_count();
   s.bed_height = scene::surface_height(*sim, 1, 5);
   s.packing = measure_packing(*sim, p);
+  for (std::size_t i = 0; i < sim->particles().owned(); ++i) s.bed_mass += sim->particles().mass[i];
+  s.fill_wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return s;
+}
+
+namespace detail {
+inline std::uint64_t fnv1a(const std::string& text) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+inline std::uint64_t bits(double v) { return std::bit_cast<std::uint64_t>(v); }
+inline double from_bits(std::uint64_t v) { return std::bit_cast<double>(v); }
+}  // namespace detail
+
+/// Key of everything that shapes the settled bed (not V, the pull's step, the sampling or the
+/// coarse-graining): two parameter sets with the same key build the same bed.
+inline std::uint64_t bed_key(const PullParams& p) {
+  char buf[1024];
+  std::snprintf(buf, sizeof(buf),
+                "pull_out bed v1;%.17g;%.17g;%.17g;%.17g;%.17g;%.17g;%.17g;%.17g;%.17g;%.17g;%.17g;%.17g;%.17g;%.17g;"
+                "%.17g;%.17g;%.17g;%llu",
+                p.cell_width, p.bed_height, p.mean_diameter, p.size_ratio, p.density, p.thickness, p.youngs_modulus,
+                p.friction, p.restitution, p.intruder_length, p.intruder_radius, p.wall_radius, p.fill_time,
+                p.fill_rate, p.fill_source_width, p.fill_release_height, p.fill_friction,
+                static_cast<unsigned long long>(p.seed));
+  return detail::fnv1a(buf);
+}
+
+/// Writes the settled bed of `s` (before its pull) to a checkpoint with what build() measured.
+inline void save_bed(PullScene& s, const std::filesystem::path& file) {
+  std::filesystem::create_directories(file.parent_path());
+  const PackingReport& k = s.packing;
+  io::write_checkpoint(*s.sim, file.string(),
+                       {bed_key(s.params), detail::bits(s.bed_height), static_cast<std::uint64_t>(s.particles),
+                        s.settled ? 1u : 0u, detail::bits(s.fill_sim_time), detail::bits(s.bed_mass), s.fill_steps,
+                        detail::bits(k.surface), detail::bits(k.interior), detail::bits(k.interior_min),
+                        detail::bits(k.interior_max), static_cast<std::uint64_t>(k.slabs), detail::bits(k.whole)});
+}
+
+/// The bed written by save_bed for the same bed_key(p), or nothing (no file, another key, or a
+/// file this build cannot read: IoError is caught, the caller builds the bed again).
+inline std::optional<PullScene> load_bed(const PullParams& p, const std::filesystem::path& file) {
+  if (!std::filesystem::exists(file)) return std::nullopt;
+  PullScene s;
+  s.params = p;
+  std::uint32_t mat = 0;
+  const double top = cell_top(p);
+  s.sim = detail::make_cell(p, p.friction, top, top, s, mat);
+  std::vector<std::uint64_t> u;
+  try {
+    u = io::read_checkpoint(*s.sim, file.string());
+  } catch (const IoError&) {
+    return std::nullopt;
+  }
+  if (u.size() != 13 || u[0] != bed_key(p)) return std::nullopt;
+  s.bed_height = detail::from_bits(u[1]);
+  s.particles = static_cast<std::size_t>(u[2]);
+  s.settled = u[3] != 0;
+  s.fill_sim_time = detail::from_bits(u[4]);
+  s.bed_mass = detail::from_bits(u[5]);
+  s.fill_steps = u[6];
+  s.packing.surface = detail::from_bits(u[7]);
+  s.packing.interior = detail::from_bits(u[8]);
+  s.packing.interior_min = detail::from_bits(u[9]);
+  s.packing.interior_max = detail::from_bits(u[10]);
+  s.packing.slabs = static_cast<std::size_t>(u[11]);
+  s.packing.whole = detail::from_bits(u[12]);
+  s.from_cache = true;
   return s;
 }
 
 /// One drag sample.
 struct DragSample {
-  double time;            ///< since the start of the pull [s]
-  double height;          ///< intruder axis height above the floor [m]
-  double drag;            ///< -F_y of the disks on the intruder, averaged over the sample [N]
-  double mu_star_bulk;    ///< mean mu* of particle-particle contacts at the sample's end [-]
-  double mu_star_wall;    ///< mean mu* of particle-cell wall contacts [-]
+  double time;                 ///< since the start of the pull [s]
+  double height;               ///< intruder axis height above the floor [m]
+  double drag;                 ///< -F_y of the disks on the intruder, averaged over the sample [N]
+  double mu_star_bulk;         ///< mean mu* of particle-particle contacts at the sample's end [-]
+  double mu_star_wall;         ///< mean mu* of particle-cell wall contacts [-]
+  double sliding_bulk;         ///< fraction of the bulk contacts at the Coulomb threshold [-]
   std::size_t contacts_intruder;  ///< disks touching the intruder at the sample's end
+  // Flow zones of the coarse-grained field at the sample's end, above the intruder's axis
+  // (NaN when the fields are off): see FieldProbe.
+  double dragged_area;         ///< v* > 0.75 [m^2]
+  double cone_area;            ///< 0.25 <= v* <= 0.75 [m^2]
+  double wall_mobility;        ///< fraction of the wall bands' nodes with v* >= 0.25 [-]
+  double cone_angle;           ///< mean inclination of the mobile zone's edges [deg] (NaN: none)
+  double cone_left, cone_right;  ///< each side's [deg]
 };
 
 /// Coarse-grained velocity map at one intruder height.
 struct VelocityMap {
-  double height;  ///< [m]
+  double target = 0.0;   ///< requested intruder height [m]
+  double height = 0.0;   ///< intruder height of the snapshot: the loading peak nearest the target [m]
+  double drag = 0.0;     ///< drag of that sample [N]
   analysis::CgFields<Dim2> fields;
+  std::vector<double> speed;  ///< v* = |V| / V_pull per node [-]
+  analysis::ConeFit cone;
+};
+
+/// Vertical velocity / V along the cell's vertical mid-line (002 fig. 9) at one intruder height.
+struct CentreLine {
+  double height = 0.0;        ///< [m]
+  std::vector<double> y;      ///< node heights [m]
+  std::vector<double> vy;     ///< V_y / V_pull [-]
+};
+
+/// What pull() records besides the drag.
+struct PullOptions {
+  double final_height = 0.0;          ///< intruder axis height at which the pull stops [m]; 0: top of the bed + d
+  std::vector<double> map_heights;    ///< intruder heights of the velocity maps [m]
+  bool fields = true;                 ///< coarse-grain every sample (flow zones and cone angle)
+  double centre_line_travel = 0.0;    ///< record the mid-line profile every this much travel [m]; 0: never
 };
 
 /// Result of the pull.
 struct PullResult {
   std::vector<DragSample> samples;
   std::vector<VelocityMap> maps;
-  analysis::PowerSpectrum spectrum;  ///< of the linearly detrended drag vs time (f [Hz]; wavelength V / f)
-  double mean_drag = 0.0;            ///< [N]
-  double std_drag = 0.0;             ///< [N]
+  std::vector<CentreLine> centre_line;
+  double dt = 0.0;                 ///< step of the pull [s]
+  std::uint64_t steps = 0;         ///< steps of the pull
+  double wall_seconds = 0.0;       ///< wall time of the pull, analysis included [s]
+  double analysis_seconds = 0.0;   ///< of which coarse-graining and zones [s]
 };
 
-/// Pulls the intruder from its rest height up to `final_height` (axis) at V; velocity maps at the
-/// requested axis heights (kernel width w = d/2, cutoff 4w as in 002 section 2.5, grid step d/2).
-inline PullResult pull(PullScene& s, double final_height, const std::vector<double>& map_heights = {},
-                       const std::function<void(double)>& on_progress = {}) {
+/// The flow-zone measurement of one frame (002 section 3.2; analysis/flow_zones.hpp): the
+/// velocity coarse-grained with 002's kernel (Gaussian, width w = cg_width d, cutoff 4 w, section
+/// 2.5) on a grid of spacing about cg_spacing d over the cell (spacing()), divided by V. Zones and wall bands are
+/// counted above the intruder's axis; the wall bands are 2 d wide (the disks touching a side
+/// wall and their neighbours); the cone's edges are looked for from w above the axis (closer, the
+/// kernel mixes in the intruder's own level) up to w below the mean surface, and only inside
+/// [w, W - w], where the kernel does not reach across a side wall.
+class FieldProbe {
+ public:
+  FieldProbe(const PullParams& p, double surface)
+      : p_(p), surface_(surface),
+        grid_(Vec(0.0, 0.0), Vec(p.cell_width, surface + p.mean_diameter), spacing(p)),
+        kernel_(p.cg_width * p.mean_diameter, 4.0 * p.cg_width * p.mean_diameter) {
+    opt_.contact_stress = false;
+  }
+
+  /// Node spacing: cg_spacing d adjusted so that an even number of cells spans the width, which
+  /// puts nodes on both side walls and on the intruder's axis (both sides of the cone alike).
+  static double spacing(const PullParams& p) {
+    const double cells = 2.0 * std::max(1.0, std::round(p.cell_width / (2.0 * p.cg_spacing * p.mean_diameter)));
+    return p.cell_width / cells;
+  }
+
+  const analysis::RegularGrid<Dim2>& grid() const { return grid_; }
+  double width() const { return kernel_.width(); }
+
+  struct Result {
+    analysis::CgFields<Dim2> fields;
+    std::vector<double> speed;
+    analysis::FlowZoneAreas zones;
+    double wall_mobility = std::numeric_limits<double>::quiet_NaN();
+    analysis::ConeFit cone;
+  };
+
+  Result measure(const analysis::Frame<Dim2>& frame, double intruder_height) const {
+    Result r;
+    r.fields = analysis::coarse_grain_direct(frame, grid_, kernel_, opt_);
+    r.speed = analysis::normalised_speed(r.fields.velocity, p_.pull_velocity);
+    r.zones = analysis::flow_zone_areas(grid_, r.speed, r.fields.packing_fraction, intruder_height);
+    const double band = 2.0 * p_.mean_diameter;
+    r.wall_mobility = analysis::wall_mobility(grid_, r.speed, r.fields.packing_fraction, intruder_height, band,
+                                              p_.cell_width - band);
+    analysis::ConeWindow w;
+    w.x_centre = 0.5 * p_.cell_width;
+    w.y_from = intruder_height + width();
+    w.y_to = surface_ - width();
+    w.x_min = width();
+    w.x_max = p_.cell_width - width();
+    if (w.y_to > w.y_from) r.cone = analysis::cone_edges(grid_, r.speed, r.fields.packing_fraction, w);
+    return r;
+  }
+
+ private:
+  PullParams p_;
+  double surface_;
+  analysis::RegularGrid<Dim2> grid_;
+  analysis::GaussianCgKernel<Dim2> kernel_;
+  analysis::CgOptions opt_;
+};
+
+/// Pulls the intruder from its rest height at V (see PullOptions) with the step pull_dt(p).
+/// `on_progress(t)` is called after every sample with the time since the start of the pull.
+inline PullResult pull(PullScene& s, const PullOptions& o = {}, const std::function<void(double)>& on_progress = {}) {
+  using Clock = std::chrono::steady_clock;
+  const auto wall_start = Clock::now();
   Sim& sim = *s.sim;
   const PullParams& p = s.params;
+  PullResult r;
+  r.dt = pull_dt(p);
+  sim.set_dt(r.dt);
   const double t0 = sim.time();
+  const std::uint64_t step0 = sim.step_count();
   const double v = p.pull_velocity;
+  const double d = p.mean_diameter;
+  const double final_height = o.final_height > 0.0 ? o.final_height : s.bed_height + d;
   sim.body(s.intruder_body).velocity = [t0, v](double t) { return t >= t0 ? Vec(0.0, v) : Vec(Vec::Zero()); };
   const double dts = p.sample_travel / v;  // sample period [s]
   const auto per_sample = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::lround(dts / sim.dt())));
-  const double sample_dt = per_sample * sim.dt();
-  PullResult r;
-  std::vector<double> drags;
-  std::vector<double> pending = map_heights;
-  std::sort(pending.begin(), pending.end());
   const std::vector<double> edges{0.0, 0.5, 1.0 + 1e-6};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::optional<FieldProbe> probe;
+  if (o.fields) probe.emplace(p, s.packing.surface);
+
+  // Velocity maps: for each requested height h_m, the sample of largest drag among those within
+  // d/2 of h_m (a loading peak, file comment).
+  std::vector<double> pending = o.map_heights;
+  std::sort(pending.begin(), pending.end());
   std::size_t k_map = 0;
+  std::optional<VelocityMap> best;
+  double next_line = 0.0;
+  double analysis_seconds = 0.0;
+
   while (s.intruder_height() < final_height) {
     double sum = 0.0;
     for (std::uint64_t k = 0; k < per_sample; ++k) {
@@ -375,46 +678,60 @@ inline PullResult pull(PullScene& s, double final_height, const std::vector<doub
       sum += sim.body(s.intruder_body).force.y();
     }
     const auto frame = sim.frame();
-    const auto mob = analysis::friction_mobilisation(frame, edges, s.cell_walls);
+    const auto mob = analysis::friction_mobilisation(frame, edges, s.cell_walls, 1e-9);
     std::size_t n_intr = 0;
     for (const auto& c : frame.contacts)
       if (c.j == analysis::ContactRecord<Dim2>::kWall && c.wall == s.intruder_wall) ++n_intr;
-    DragSample d{sim.time() - t0, s.intruder_height(), -sum / per_sample, mob.bulk.mean, mob.wall.mean, n_intr};
-    r.samples.push_back(d);
-    drags.push_back(d.drag);
-    while (k_map < pending.size() && d.height >= pending[k_map]) {
-      const double h = 0.5 * p.mean_diameter;
-      analysis::RegularGrid<Dim2> grid(Vec(0.0, 0.0), Vec(p.cell_width, s.bed_height), h);
-      analysis::GaussianCgKernel<Dim2> kernel(0.5 * p.mean_diameter, 2.0 * p.mean_diameter);
-      analysis::CgOptions opt;
-      opt.contact_stress = false;
-      r.maps.push_back({d.height, analysis::coarse_grain_direct(frame, grid, kernel, opt)});
-      ++k_map;
+    const double h = s.intruder_height();
+    DragSample x{sim.time() - t0,
+                 h,
+                 -sum / static_cast<double>(per_sample),
+                 mob.bulk.mean,
+                 mob.wall.mean,
+                 mob.bulk.mu_star.empty() ? nan
+                                          : static_cast<double>(mob.bulk.sliding) / static_cast<double>(mob.bulk.mu_star.size()),
+                 n_intr,
+                 nan, nan, nan, nan, nan, nan};
+    if (probe) {
+      const auto a0 = Clock::now();
+      auto m = probe->measure(frame, h);
+      x.dragged_area = m.zones.dragged;
+      x.cone_area = m.zones.cone;
+      x.wall_mobility = m.wall_mobility;
+      x.cone_angle = m.cone.angle;
+      x.cone_left = m.cone.left.angle;
+      x.cone_right = m.cone.right.angle;
+      if (o.centre_line_travel > 0.0 && h - s.intruder_y0 >= next_line) {
+        next_line += o.centre_line_travel;
+        CentreLine line;
+        line.height = h;
+        const auto& g = probe->grid();
+        const int ic = static_cast<int>(std::lround((0.5 * p.cell_width - g.lo().x()) / g.spacing().x()));
+        for (int j = 0; j < g.count().y(); ++j) {
+          const std::size_t idx = g.index(Dim2::IVec(ic, j));
+          line.y.push_back(g.node(idx).y());
+          line.vy.push_back(m.fields.velocity[idx].y() / v);
+        }
+        r.centre_line.push_back(std::move(line));
+      }
+      // Maps: close the windows the intruder has passed, then offer this sample to the open one.
+      while (k_map < pending.size() && h > pending[k_map] + 0.5 * d) {
+        if (best) r.maps.push_back(std::move(*best));
+        best.reset();
+        ++k_map;
+      }
+      if (k_map < pending.size() && h >= pending[k_map] - 0.5 * d && (!best || x.drag > best->drag)) {
+        best = VelocityMap{pending[k_map], h, x.drag, std::move(m.fields), std::move(m.speed), m.cone};
+      }
+      analysis_seconds += std::chrono::duration<double>(Clock::now() - a0).count();
     }
+    r.samples.push_back(x);
     if (on_progress) on_progress(sim.time() - t0);
   }
-  if (drags.size() >= 2) {
-    const double n = static_cast<double>(drags.size());
-    double m = 0.0;
-    for (double x : drags) m += x;
-    m /= n;
-    double var = 0.0;
-    for (double x : drags) var += (x - m) * (x - m);
-    r.mean_drag = m;
-    r.std_drag = std::sqrt(var / n);
-    // Spectrum of the fluctuations: the least-squares line through (k, F_k) (the slow relaxation
-    // of the drag, 002 section 3.1) is removed first.
-    const double k_mean = 0.5 * (n - 1.0);
-    double skf = 0.0, skk = 0.0;
-    for (std::size_t k = 0; k < drags.size(); ++k) {
-      skf += (k - k_mean) * (drags[k] - m);
-      skk += (k - k_mean) * (k - k_mean);
-    }
-    const double slope = skf / skk;
-    std::vector<double> fluct(drags.size());
-    for (std::size_t k = 0; k < drags.size(); ++k) fluct[k] = drags[k] - m - slope * (k - k_mean);
-    r.spectrum = analysis::power_spectrum(fluct, sample_dt, analysis::SpectralWindow::Hann);
-  }
+  if (best) r.maps.push_back(std::move(*best));
+  r.steps = sim.step_count() - step0;
+  r.analysis_seconds = analysis_seconds;
+  r.wall_seconds = std::chrono::duration<double>(Clock::now() - wall_start).count();
   return r;
 }
 

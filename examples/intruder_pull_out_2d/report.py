@@ -1,0 +1,398 @@
+#!/usr/bin/env python3
+"""README tables and figures of the intruder pull-out convergence study (issue 27), from its
+result files.
+
+usage: report.py [--check] [--figures DIR] [--results DIR] [--readme FILE]
+
+Reads examples/intruder_pull_out_2d/results/<tag>/ (written by `intruder_pull_out_2d --study
+<tag>`, see run_study.sh): plan.csv (the cases in run order, with kappa, I and the estimated
+steps) and one directory per case done, <case>/summary.csv (every statistic, the parameters, the
+cost, commit, date and machine), profile.csv (the pull per mm of travel), bands.csv (third-octave
+spectrum) and velocity_map_h*.csv (two maps at loading peaks). A planned case without a
+summary.csv is shown as "not run yet".
+
+Rewrites the blocks of README.md between "<!-- BEGIN GENERATED: name -->" and
+"<!-- END GENERATED: name -->" and draws the figures into --figures (default
+out/intruder_pull_out_2d_study/figures; figures are not committed). With --check nothing is
+written: the exit code is 1 if README.md differs from what the results give (the ctest
+intruder_pull_out_2d_readme_matches_results).
+
+002's values are those its text states (sections 2.4, 3.1, 3.2, 4); the tolerance used to call
+one of ours "within 002's spread" is given with each in PAPER.
+"""
+import csv
+import math
+import os
+import re
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
+RESULTS = os.path.join(HERE, "results")
+README = os.path.join(HERE, "README.md")
+TAGS = ("convergence", "dtcheck")
+D = 3e-3  # mean diameter [m]
+
+# Paper 002 as stated in its text, with the spread we allow (our choice where 002 gives none).
+PAPER = {
+    "spacing": 0.5 * D,    # 3.1: peaks spaced about d/2 (1 Hz at ~1 mm/s); test: the d/2 band stands out
+    "quiet": 0.045,        # 3.1: fluctuations vanish in the top 45 mm ("nearly"): +- d
+    "quiet_tol": D,
+    "mu_above_h1": 0.24,   # 4, fig. 13: above H1 bulk and wall mu* decrease toward 0.24: +- 0.05
+    "mu_tol": 0.05,
+    "cone": 60.0,          # 3.2 c: opening angle of the cone 60 deg, "almost constant": +- 5 deg
+    "cone_tol": 5.0,
+    "phi": 0.82,           # 2.4: 0.82 +- 0.02
+    "phi_tol": 0.02,
+    "sliding": 0.20,       # 4, fig. 12c: slip threshold reached for less than 20 % of the contacts
+    "h1": 0.078,           # 3.2 c: H1 = (L_c - L)/2 tan(beta) = 0.078 m
+}
+
+
+def read_csv(path):
+    with open(path, newline="", encoding="utf-8") as f:
+        return [r for r in csv.reader(f) if r and not r[0].startswith("#")]
+
+
+def read_table(path):
+    rows = read_csv(path)
+    names = [re.sub(r"\s*\[.*\]$", "", h) for h in rows[0]]
+    out = []
+    for r in rows[1:]:
+        d = {}
+        for n, v in zip(names, r):
+            try:
+                d[n] = float(v)
+            except ValueError:
+                d[n] = v
+        out.append(d)
+    return out
+
+
+def read_summary(path):
+    s = {}
+    for r in read_csv(path)[1:]:
+        try:
+            s[r[0]] = float(r[1])
+        except ValueError:
+            s[r[0]] = r[1]
+    return s if "machine" in s else None
+
+
+def load(tag):
+    """The plan of a tag and the summaries of its cases done (None when there is no plan)."""
+    base = os.path.join(RESULTS, tag)
+    plan_file = os.path.join(base, "plan.csv")
+    if not os.path.exists(plan_file):
+        return None
+    plan = read_table(plan_file)
+    for c in plan:
+        f = os.path.join(base, c["case"], "summary.csv")
+        c["summary"] = read_summary(f) if os.path.exists(f) else None
+        c["dir"] = os.path.join(base, c["case"])
+    return {"tag": tag, "plan": plan}
+
+
+def fmt(v, digits=3):
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return "–"
+    if isinstance(v, str):
+        return v
+    return f"{v:.{digits}g}"
+
+
+def mm(v, digits=3):
+    return "–" if v is None or not math.isfinite(v) else f"{1e3 * v:.{digits}g} mm"
+
+
+def duration(seconds):
+    s = int(round(seconds))
+    return f"{s // 3600}:{s // 60 % 60:02d}:{s % 60:02d}" if s >= 3600 else f"{s // 60}:{s % 60:02d}"
+
+
+def estimate_seconds(c, ns=94.0):
+    return ns * 1e-9 * c["disks"] * (c["fill_steps_estimate"] + c["pull_steps_estimate"])
+
+
+def reference_case(study):
+    """The most converged case done: the smallest I, then the largest kappa."""
+    done = [c for c in study["plan"] if c["summary"]] if study else []
+    if not done:
+        return None
+    return min(done, key=lambda c: (round(c["inertial_number"], 12), -c["kappa"]))
+
+
+def within(value, target, tol):
+    if value is None or not math.isfinite(value):
+        return "–"
+    return "yes" if abs(value - target) <= tol else "no"
+
+
+def table_paper(studies):
+    conv = studies.get("convergence")
+    ref = reference_case(conv)
+    if not ref:
+        return "_Not run yet: `examples/intruder_pull_out_2d/run_study.sh` (the convergence set)._\n"
+    s = ref["summary"]
+    verdict = "stands out" if s["half_d_stands_out"] == 1 else "does not stand out"
+    rows = [
+        f"Most converged case run: `{ref['case']}` (κ = {fmt(ref['kappa'])}, I = {fmt(ref['inertial_number'])}; "
+        f"002: κ = {fmt(1.92e8 / (2500 * 0.82 * 9.81 * 0.15 * 0.009))} with t = 3 d, I = {fmt(1.2e-3 / math.sqrt(0.82 * 9.81 * 0.15))}).",
+        "",
+        "| quantity | 002 | ours | within 002's spread |",
+        "|---|---|---|---|",
+        f"| spacing of the drag peaks | ≈ d/2 = 1.5 mm (3.1) | d/2 band / neighbours R = {fmt(s['half_d_ratio'])} "
+        f"(95 % point {fmt(s['half_d_critical'])}): {verdict}; maxima spaced {mm(s['event_spacing'])} "
+        f"({fmt(s['event_spacing'] / D, 2)} d) | {'yes' if s['half_d_stands_out'] == 1 else 'no'} (a d/2 peak must stand out) |",
+        f"| mean μ* above H1 (bulk / walls) | → 0.24 (4, fig. 13) | {fmt(s['mu_bulk_above_h1'])} / {fmt(s['mu_wall_above_h1'])}; "
+        f"last 10 % of the pull {fmt(s['mu_bulk_end'])} / {fmt(s['mu_wall_end'])} | "
+        f"{within(s['mu_bulk_end'], PAPER['mu_above_h1'], PAPER['mu_tol'])} (end value ± {PAPER['mu_tol']}) |",
+        f"| quiet top layer | ≈ 45 mm (3.1) | {mm(s['quiet_thickness_q2'])} (drops > 2 % of the peak; 1 %: "
+        f"{mm(s['quiet_thickness_q1'])}, 5 %: {mm(s['quiet_thickness_q5'])}) | "
+        f"{within(s['quiet_thickness_q2'], PAPER['quiet'], PAPER['quiet_tol'])} (± d) |",
+        f"| cone: edges' inclination | 60° (3.2 c) | {fmt(s['cone_angle'])}° (quartiles {fmt(s['cone_angle_p25'])}–"
+        f"{fmt(s['cone_angle_p75'])}°, {int(s['cone_samples'])} drag maxima) | "
+        f"{within(s['cone_angle'], PAPER['cone'], PAPER['cone_tol'])} (± 5°) |",
+        f"| packing fraction | 0.82 ± 0.02 (2.4) | {fmt(s['phi_interior'])} interior, {fmt(s['phi_whole'])} whole bed | "
+        f"{within(s['phi_interior'], PAPER['phi'], PAPER['phi_tol'])} |",
+        f"| contacts at the Coulomb threshold | < 20 % (4, fig. 12c) | {fmt(100 * s['sliding_bulk'])} % of the bulk | "
+        f"{'yes' if s['sliding_bulk'] < PAPER['sliding'] else 'no'} |",
+        f"| wall bands mobile (v* ≥ 0.25), below / above H1 | mobility lost near the walls above H1 (4) | "
+        f"{fmt(s['wall_mobility_below_h1'])} / {fmt(s['wall_mobility_above_h1'])} | – |",
+        f"| drag peak, its height; drop, reload | high peak, disappears, new loading (3.1, fig. 6) | "
+        f"{fmt(s['peak'])} N ({fmt(s['peak_over_column'])} M g L/W) at {mm(s['peak_height'])}; {fmt(s['drop'])} N at "
+        f"{mm(s['drop_height'])}, {fmt(s['reload'])} N at {mm(s['reload_height'])} | – |",
+    ]
+    return "\n".join(rows) + "\n"
+
+
+def table_convergence(study, tag):
+    if not study:
+        return f"_No plan yet: `intruder_pull_out_2d --study {tag} --list --results examples/intruder_pull_out_2d/results/{tag}`._\n"
+    out = ["| case | κ | I | dt / dt_c | peak [N] (/ M g L/W) at h | drop → reload [N] | quiet layer (q = 2 %) | "
+           "μ* above H1, bulk / walls | μ* end | d/2: R (95 % point) | maxima spacing / d | cone [°] (quartiles) | φ interior |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for c in study["plan"]:
+        s = c["summary"]
+        head = f"| `{c['case']}` | {fmt(c['kappa'])} | {fmt(c['inertial_number'])} |"
+        if not s:
+            out.append(head + f" – | not run yet (about {duration(estimate_seconds(c))} at 94 ns per particle-step) |"
+                       " | | | | | | | |")
+            continue
+        out.append(
+            head + f" {fmt(s['dt_pull_over_dt_c'])} | {fmt(s['peak'])} ({fmt(s['peak_over_column'])}) at {mm(s['peak_height'])} | "
+            f"{fmt(s['drop'])} → {fmt(s['reload'])} | {mm(s['quiet_thickness_q2'])} | "
+            f"{fmt(s['mu_bulk_above_h1'])} / {fmt(s['mu_wall_above_h1'])} | {fmt(s['mu_bulk_end'])} | "
+            f"{fmt(s['half_d_ratio'])} ({fmt(s['half_d_critical'])}) | {fmt(s['event_spacing'] / D, 2)} | "
+            f"{fmt(s['cone_angle'])} ({fmt(s['cone_angle_p25'])}–{fmt(s['cone_angle_p75'])}) | {fmt(s['phi_interior'])} |")
+    return "\n".join(out) + "\n"
+
+
+def table_cost(studies):
+    out = ["| case | disks | steps: fill + pull | wall time: fill + pull | ns per particle-step | commit | date (UTC) | machine |",
+           "|---|---|---|---|---|---|---|---|"]
+    total_est, total_run, n_run = 0.0, 0.0, 0
+    for tag in TAGS:
+        st = studies.get(tag)
+        if not st:
+            continue
+        for c in st["plan"]:
+            s = c["summary"]
+            if not s:
+                total_est += estimate_seconds(c)
+                out.append(f"| `{c['case']}` | {int(c['disks'])} | estimated {fmt(c['fill_steps_estimate'])} + "
+                           f"{fmt(c['pull_steps_estimate'])} | not run yet (about {duration(estimate_seconds(c))}) | | | | |")
+                continue
+            n_run += 1
+            total_run += s["fill_wall_time"] + s["pull_wall_time"]
+            out.append(f"| `{c['case']}` | {int(s['disks'])} | {fmt(s['fill_steps'])} + {fmt(s['pull_steps'])} | "
+                       f"{s['fill_wall_time']:.0f} s + {s['pull_wall_time']:.0f} s | {s['ns_per_particle_step']:.0f} | "
+                       f"{s['commit']} | {s['date'][:16]} | {s['machine']} |")
+    if len(out) == 2:
+        return "_No plan yet._\n"
+    out.append("")
+    out.append(f"{n_run} case(s) run in {duration(total_run)} of wall time; the cases not run yet need about "
+               f"{duration(total_est)} at 94 ns per particle-step (the rate of issue 27: 1600 disks, one thread, before the 2D packed contacts), "
+               "coarse-graining not counted; the 2D packed contacts of 2026-12-06 measured 46 ns on the medium bed. A bed shared by several cases is filled once (the first case pays it).")
+    return "\n".join(out) + "\n"
+
+
+def table_dtcheck(studies):
+    st = studies.get("dtcheck")
+    if not st:
+        return "_No plan yet._\n"
+    done = [c for c in st["plan"] if c["summary"]]
+    if len(done) < 2:
+        return ("_Not run yet (`run_study.sh dtcheck`): the quick cell at E = 6e8 Pa, V = 20 mm/s, pulled from one bed "
+                "with the engine's step and with 002's dt_c / 60._\n")
+    rows = ["| quantity | " + " | ".join(f"`{c['case']}` (dt = {fmt(c['summary']['dt_pull'])} s)" for c in done) + " |",
+            "|---" * (len(done) + 1) + "|"]
+    for key, label in (("peak", "peak [N]"), ("drag_mean", "mean drag [N]"), ("third1_drag_mean", "mean drag, first third [N]"),
+                       ("third2_drag_mean", "mean drag, second third [N]"), ("mu_bulk_below_h1", "μ* bulk below H1"),
+                       ("mu_bulk_above_h1", "μ* bulk above H1"), ("quiet_thickness_q5", "quiet layer, q = 5 % [m]"),
+                       ("cone_angle", "cone [°]")):
+        rows.append(f"| {label} | " + " | ".join(fmt(c["summary"][key]) for c in done) + " |")
+    return "\n".join(rows) + "\n"
+
+
+def blocks(studies):
+    return {
+        "paper-vs-ours": table_paper(studies),
+        "convergence": table_convergence(studies.get("convergence"), "convergence"),
+        "dtcheck": table_dtcheck(studies),
+        "cost": table_cost(studies),
+    }
+
+
+def render(text, blk):
+    for name, body in blk.items():
+        pat = re.compile(r"(<!-- BEGIN GENERATED: %s -->\n).*?(<!-- END GENERATED: %s -->)" % (re.escape(name), re.escape(name)),
+                         re.S)
+        if not pat.search(text):
+            raise SystemExit(f"report.py: README.md has no block '{name}'")
+        text = pat.sub(lambda m: m.group(1) + body + m.group(2), text)
+    return text
+
+
+def figures(studies, outdir):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    os.makedirs(outdir, exist_ok=True)
+    conv = studies.get("convergence")
+    plan = conv["plan"] if conv else []
+    done = [c for c in plan if c["summary"]]
+    # The two arms of the cross: E at V = 20 mm/s (seed 1), V at E = 6e8 Pa.
+    e_arm = sorted([c for c in done if abs(c["pull_velocity"] - 0.02) < 1e-12 and int(c["seed"]) == 1],
+                   key=lambda c: c["kappa"])
+    v_arm = sorted([c for c in done if abs(c["youngs_modulus"] - 6e8) < 1.0 and int(c["seed"]) == 1],
+                   key=lambda c: c["inertial_number"])
+    seeds = [c for c in done if abs(c["youngs_modulus"] - 6e7) < 1.0 and abs(c["pull_velocity"] - 0.02) < 1e-12]
+    # Convergence figure: the headlines against kappa and against I, 002's values as lines.
+    quantities = [
+        ("quiet_thickness_q2", 1e3, "quiet layer [mm]", 1e3 * PAPER["quiet"]),
+        ("mu_bulk_above_h1", 1.0, "μ* bulk above H1", PAPER["mu_above_h1"]),
+        ("mu_bulk_end", 1.0, "μ* bulk, end of pull", PAPER["mu_above_h1"]),
+        ("cone_angle", 1.0, "cone [°]", PAPER["cone"]),
+        ("half_d_ratio", 1.0, "d/2 band ratio R", None),
+        ("event_spacing", 1.0 / D, "maxima spacing / d", 0.5),
+        ("peak_over_column", 1.0, "peak / (M g L/W)", None),
+        ("phi_interior", 1.0, "φ interior", PAPER["phi"]),
+    ]
+    fig, axs = plt.subplots(2, len(quantities), figsize=(2.6 * len(quantities), 5.6), squeeze=False)
+    for row, (arm, xkey, xlabel) in enumerate(((e_arm, "kappa", "κ (V = 20 mm/s)"), (v_arm, "inertial_number", "I (E = 6e8 Pa)"))):
+        for col, (key, scale, label, paper) in enumerate(quantities):
+            ax = axs[row][col]
+            xs = [c[xkey] for c in arm]
+            ys = [scale * c["summary"][key] for c in arm]
+            ax.semilogx(xs, ys, "o-")
+            if key == "half_d_ratio":
+                ax.semilogx(xs, [c["summary"]["half_d_critical"] for c in arm], "k:", label="95 % point")
+            if row == 0 and seeds:
+                ax.semilogx([c["kappa"] for c in seeds], [scale * c["summary"][key] for c in seeds], "x", color="C1",
+                            label="other beds")
+            if paper is not None:
+                ax.axhline(paper, color="r", ls="--", lw=1, label="002")
+            if not arm:
+                ax.text(0.5, 0.5, "not run yet", ha="center", transform=ax.transAxes)
+            ax.set_xlabel(xlabel, fontsize=8)
+            if row == 0:
+                ax.set_title(label, fontsize=8)
+            ax.tick_params(labelsize=7)
+            if col == 0 and row == 0 and ax.get_legend_handles_labels()[0]:
+                ax.legend(fontsize=6)
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, "convergence.png"), dpi=120)
+    plt.close(fig)
+    # Drag and mu* against height for every case done.
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 7), sharex=True)
+    for c in done:
+        p = read_table(os.path.join(c["dir"], "profile.csv"))
+        s = c["summary"]
+        h = [1e3 * r["intruder_height"] for r in p]
+        a1.plot(h, [r["drag"] / s["column_weight"] for r in p], lw=0.8, label=c["case"])
+        a2.plot(h, [r["mu_star_bulk"] for r in p], lw=0.8)
+    if done:
+        h1 = done[0]["summary"]["h1"]
+        a2.axvline(1e3 * h1, color="k", ls=":", label="H1")
+        a2.axhline(PAPER["mu_above_h1"], color="r", ls="--", label="002: → 0.24 above H1")
+        surf = done[0]["summary"]["mean_surface"]
+        a1.axvline(1e3 * (surf - PAPER["quiet"]), color="C2", ls="--", label="002: top layer 45 mm")
+    a1.set_ylabel("drag / (M g L/W), 1 mm bins")
+    a2.set_ylabel("μ* bulk")
+    a2.set_xlabel("intruder height [mm]")
+    for a in (a1, a2):
+        if a.get_legend_handles_labels()[0]:
+            a.legend(fontsize=6)
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, "drag_mu_star.png"), dpi=120)
+    plt.close(fig)
+    # Spectra.
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for c in done:
+        b = read_table(os.path.join(c["dir"], "bands.csv"))
+        pk = c["summary"]["peak"]
+        ax.loglog([1e3 * r["wavelength"] for r in b], [r["psd"] / pk ** 2 for r in b], "o-", ms=3, lw=0.8, label=c["case"])
+    ax.axvline(1.5, color="r", ls="--", label="002: d/2")
+    ax.invert_xaxis()
+    ax.set_xlabel("wavelength [mm]")
+    ax.set_ylabel("PSD / peak² [m]")
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=6)
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, "spectra.png"), dpi=120)
+    plt.close(fig)
+    # Maps of the reference case.
+    ref = reference_case(conv)
+    if ref:
+        sys.path.insert(0, HERE)
+        import plot  # noqa: E402  (the single-run figures' map drawing)
+
+        s = ref["summary"]
+        files = sorted(f for f in os.listdir(ref["dir"]) if f.startswith("velocity_map_h"))
+        fig, axs = plt.subplots(1, max(1, len(files)), figsize=(3.5 * max(1, len(files)), 5), squeeze=False)
+        for k, (ax, f) in enumerate(zip(axs[0], files)):
+            m = plot.read_table(os.path.join(ref["dir"], f))
+            height = s.get(f"map{k + 1}_height", float("nan"))
+            cone = s.get(f"map{k + 1}_cone_angle", float("nan"))
+            plot.draw_map(ax, m, s, height, cone, D, s["cell_width"], 0.010, 1e-3)
+            ax.set_title(f"{ref['case']}\nh = {1e3 * height:.0f} mm, cone {cone:.0f}°", fontsize=8)
+            if k == 0:
+                ax.legend(fontsize=6, loc="upper left")
+        fig.tight_layout()
+        fig.savefig(os.path.join(outdir, "velocity_maps.png"), dpi=120)
+        plt.close(fig)
+
+
+def main(argv):
+    global RESULTS, README
+    check = "--check" in argv
+    outdir = os.path.join(ROOT, "out", "intruder_pull_out_2d_study", "figures")
+    if "--figures" in argv:
+        outdir = argv[argv.index("--figures") + 1]
+    if "--results" in argv:  # another result tree (default: the committed one)
+        RESULTS = argv[argv.index("--results") + 1]
+    if "--readme" in argv:  # another README (default: the example's)
+        README = argv[argv.index("--readme") + 1]
+    studies = {t: s for t, s in ((t, load(t)) for t in TAGS) if s}
+    with open(README, encoding="utf-8") as f:
+        text = f.read()
+    new = render(text, blocks(studies))
+    if check:
+        if new != text:
+            print(f"report.py --check: {README} differs from the results in {RESULTS}; "
+                  "run examples/intruder_pull_out_2d/report.py")
+            return 1
+        print("report.py --check: README.md matches the results")
+        return 0
+    with open(README, "w", encoding="utf-8") as f:
+        f.write(new)
+    figures(studies, outdir)
+    print(f"{README} regenerated; figures in {os.path.normpath(outdir)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
