@@ -33,45 +33,12 @@
 
 #include "statistics.hpp"
 
-#if __has_include("granule_git_info.hpp")
-#include "granule_git_info.hpp"  // generated at build time (cmake/git_info.cmake)
-#endif
-#ifndef GRANULE_GIT_COMMIT
-#define GRANULE_GIT_COMMIT "unknown"
-#endif
+#include "../common/provenance.hpp"
 
 namespace granule::examples::pull_out {
 
-/// Where and from what a result came.
-struct Provenance {
-  std::string commit;   ///< git commit of the build ("-dirty" if the tree had changes)
-  std::string date;     ///< UTC, ISO 8601
-  std::string machine;  ///< CPU model, its hardware threads and the OpenMP threads used
-};
-
-inline Provenance provenance_now() {
-  Provenance p;
-  p.commit = GRANULE_GIT_COMMIT;
-  char buf[32];
-  const std::time_t t = std::time(nullptr);
-  std::strftime(buf, sizeof(buf), "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  p.date = buf;
-  std::string model = "unknown CPU";
-  std::ifstream cpu("/proc/cpuinfo");
-  for (std::string line; std::getline(cpu, line);)
-    if (line.rfind("model name", 0) == 0) {
-      model = line.substr(line.find(':') + 2);
-      break;
-    }
-  p.machine = model + " x" + std::to_string(std::max(1u, std::thread::hardware_concurrency()));
-#ifdef _OPENMP
-  const int threads = omp_get_max_threads();
-#else
-  const int threads = 1;
-#endif
-  p.machine += ", " + std::to_string(threads) + (threads == 1 ? " thread" : " threads");
-  return p;
-}
+using examples::Provenance;
+using examples::provenance_now;
 
 namespace study_detail {
 /// Writes `text` to `file` through a temporary and a rename: the file exists whole or not at all.
