@@ -204,6 +204,20 @@ def table_box(studies):
         rows.append(f"| {fmt(g)} | {fmt(a['work_mean'])} ± {fmt(a['work_se'], 2)} ({int(a['beds'])} beds) | "
                     f"{fmt(b['work_mean'])} ± {fmt(b['work_se'], 2)} ({int(b['beds'])} beds) | "
                     f"{100 * diff / a['work_mean']:+.1f} % | {100 * se / a['work_mean']:.1f} % |")
+    # The verdict of the check, and what it does to the headline ratio: W at the paper's peak gap
+    # over W at the widest gap, in both boxes.
+    both = [(ws[r["gap_over_d"]], r) for r in big["gaps"]["square"] if r["gap_over_d"] in ws]
+    if both:
+        ok = all(abs(b["work_mean"] - a["work_mean"]) < (a["work_se"] ** 2 + b["work_se"] ** 2) ** 0.5 for a, b in both)
+        rows.append("")
+        rows.append("Verdict: the 9 × 9 cm box is " + ("accepted: W changes by less than the combined standard error "
+                    "at every gap checked." if ok else "**not accepted**: W changes by more than the combined standard "
+                    "error, so the walls of the smaller box raise W."))
+        g = {a["gap_over_d"]: (a, b) for a, b in both}
+        if len(g) >= 2:
+            lo, hi = min(g), max(g)
+            rows.append(f"W(s/d = {fmt(lo)}) / W(s/d = {fmt(hi)}): {fmt(g[lo][0]['work_mean'] / g[hi][0]['work_mean'], 3)} "
+                        f"in the 9 × 9 cm box, {fmt(g[lo][1]['work_mean'] / g[hi][1]['work_mean'], 3)} in the 13 × 13 cm box.")
     return "\n".join(rows) + "\n"
 
 
