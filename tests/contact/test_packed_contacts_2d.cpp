@@ -309,7 +309,7 @@ TEST_CASE("The 2D touch scan lists the touching entries as the definition does",
   }
   const contact::TouchScanInput in{x.data()->data(), r.data(), row_begin.data(), nbr.data(), slot.data(), none};
   std::size_t listed = 0;
-  for (const auto [r0, r1] : {std::pair<std::uint32_t, std::uint32_t>{0, 300}, {5, 6}, {17, 211}, {150, 150}}) {
+  for (const auto& [r0, r1] : {std::pair<std::uint32_t, std::uint32_t>{0, 300}, {5, 6}, {17, 211}, {150, 150}}) {
     INFO("rows " << r0 << " to " << r1);
     std::vector<std::uint32_t> t1(nbr.size() + 8), rows1(nbr.size() + 8), t2(nbr.size() + 8), rows2(nbr.size() + 8);
     std::vector<std::pair<std::uint32_t, bool>> c1, c2, expected_calls;
