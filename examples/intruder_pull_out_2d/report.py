@@ -110,8 +110,17 @@ def duration(seconds):
     return f"{s // 3600}:{s // 60 % 60:02d}:{s % 60:02d}" if s >= 3600 else f"{s // 60}:{s % 60:02d}"
 
 
-def estimate_seconds(c, ns=94.0):
-    return ns * 1e-9 * c["disks"] * (c["fill_steps_estimate"] + c["pull_steps_estimate"])
+RATE_NS = 94.0  # ns per particle-step of the estimates: the median of the cases run (main), else issue 27's rate
+
+
+def estimate_seconds(c):
+    return RATE_NS * 1e-9 * c["disks"] * (c["fill_steps_estimate"] + c["pull_steps_estimate"])
+
+
+def measured_rate(studies):
+    rates = sorted(c["summary"]["ns_per_particle_step"] for st in studies.values() for c in st["plan"]
+                   if c["summary"] and c["disks"] >= 1000)
+    return rates[len(rates) // 2] if rates else 94.0
 
 
 def reference_case(study):
@@ -176,7 +185,7 @@ def table_convergence(study, tag):
         s = c["summary"]
         head = f"| `{c['case']}` | {fmt(c['kappa'])} | {fmt(c['inertial_number'])} |"
         if not s:
-            out.append(head + f" – | not run yet (about {duration(estimate_seconds(c))} at 94 ns per particle-step) |"
+            out.append(head + f" – | not run yet (about {duration(estimate_seconds(c))} at {RATE_NS:.0f} ns per particle-step) |"
                        " | | | | | | | |")
             continue
         out.append(
@@ -185,6 +194,74 @@ def table_convergence(study, tag):
             f"{fmt(s['mu_bulk_above_h1'])} / {fmt(s['mu_wall_above_h1'])} | {fmt(s['mu_bulk_end'])} | "
             f"{fmt(s['half_d_ratio'])} ({fmt(s['half_d_critical'])}) | {fmt(s['event_spacing'] / D, 2)} | "
             f"{fmt(s['cone_angle'])} ({fmt(s['cone_angle_p25'])}–{fmt(s['cone_angle_p75'])}) | {fmt(s['phi_interior'])} |")
+    return "\n".join(out) + "\n"
+
+# The headlines whose convergence the study decides: summary key, scale, label.
+HEADLINES = (
+    ("peak_over_column", 1.0, "drag peak / (M g L/W)"),
+    ("drop", 1.0, "drop [N]"),
+    ("reload", 1.0, "reload [N]"),
+    ("quiet_thickness_q2", 1e3, "quiet layer, q = 2 % [mm]"),
+    ("mu_bulk_above_h1", 1.0, "μ* bulk above H1"),
+    ("mu_bulk_end", 1.0, "μ* bulk, last 10 % of the pull"),
+    ("half_d_ratio", 1.0, "d/2 band ratio R"),
+    ("cone_angle", 1.0, "cone [°]"),
+    ("phi_interior", 1.0, "φ interior"),
+    ("sliding_bulk", 100.0, "bulk contacts at the threshold [%]"),
+    ("wall_mobility_above_h1", 1.0, "wall bands mobile above H1"),
+)
+
+
+def arms(study):
+    """The cross of the study: the kappa arm (V = 20 mm/s, seed 1), the I arm (E = 6e8 Pa, seed 1)
+    and the beds at the cheapest point (E = 6e7 Pa, V = 20 mm/s), each sorted towards 002."""
+    done = [c for c in study["plan"] if c["summary"]] if study else []
+    e_arm = sorted([c for c in done if abs(c["pull_velocity"] - 0.02) < 1e-12 and int(c["seed"]) == 1],
+                   key=lambda c: c["kappa"])
+    v_arm = sorted([c for c in done if abs(c["youngs_modulus"] - 6e8) < 1.0 and int(c["seed"]) == 1],
+                   key=lambda c: -c["inertial_number"])
+    beds = [c for c in done if abs(c["youngs_modulus"] - 6e7) < 1.0 and abs(c["pull_velocity"] - 0.02) < 1e-12]
+    return e_arm, v_arm, beds
+
+
+def last_step(arm, key, scale, sigma):
+    """The values along an arm, and the change of its last step in units of the standard deviation
+    of a difference of two beds (sqrt(2) sigma): |z| < 2 is "converged"."""
+    vals = [scale * c["summary"][key] for c in arm]
+    if len(vals) < 2 or not sigma:
+        return vals, None
+    return vals, (vals[-1] - vals[-2]) / (math.sqrt(2.0) * sigma)
+
+
+def table_converged(study):
+    e_arm, v_arm, beds = arms(study)
+    if len(beds) < 2 or len(e_arm) < 2:
+        return "_Needs the three beds at the cheapest point and two stiffnesses (`run_study.sh convergence`)._\n"
+    ref = reference_case(study)
+    out = [f"σ: standard deviation over the {len(beds)} beds at κ = {fmt(beds[0]['kappa'])}, I = "
+           f"{fmt(beds[0]['inertial_number'])}. z: the change over the arm's last step (κ {fmt(e_arm[-2]['kappa'])} → "
+           f"{fmt(e_arm[-1]['kappa'])}; I "
+           + (f"{fmt(v_arm[-2]['inertial_number'])} → {fmt(v_arm[-1]['inertial_number'])}" if len(v_arm) > 1 else "–")
+           + ") over √2 σ, the spread of a difference of two beds; |z| < 2 counts as converged. Value: the most "
+           f"converged case run, `{ref['case']}`, ± σ.",
+           "",
+           "| quantity | σ | κ arm: " + " → ".join(fmt(c["kappa"], 2) for c in e_arm) + " | z (κ) | I arm: "
+           + " → ".join(fmt(c["inertial_number"], 2) for c in v_arm) + " | z (I) | converged value |",
+           "|---|---|---|---|---|---|---|"]
+    for key, scale, label in HEADLINES:
+        bed_vals = [scale * c["summary"][key] for c in beds]
+        mean = sum(bed_vals) / len(bed_vals)
+        sigma = math.sqrt(sum((v - mean) ** 2 for v in bed_vals) / (len(bed_vals) - 1))
+        ev, ez = last_step(e_arm, key, scale, sigma)
+        iv, iz = last_step(v_arm, key, scale, sigma)
+
+        def verdict(z):
+            return "–" if z is None else f"{z:+.1f}" + ("" if abs(z) < 2 else " **not converged**")
+
+        converged = (ez is not None and abs(ez) < 2) and (iz is None or abs(iz) < 2)
+        value = f"{fmt(scale * ref['summary'][key])} ± {fmt(sigma, 2)}" + ("" if converged else " (not converged)")
+        out.append(f"| {label} | {fmt(sigma, 2)} | " + ", ".join(fmt(v) for v in ev) + f" | {verdict(ez)} | "
+                   + ", ".join(fmt(v) for v in iv) + f" | {verdict(iz)} | {value} |")
     return "\n".join(out) + "\n"
 
 
@@ -212,8 +289,9 @@ def table_cost(studies):
         return "_No plan yet._\n"
     out.append("")
     out.append(f"{n_run} case(s) run in {duration(total_run)} of wall time; the cases not run yet need about "
-               f"{duration(total_est)} at 94 ns per particle-step (the rate of issue 27: 1600 disks, one thread, before the 2D packed contacts), "
-               "coarse-graining not counted; the 2D packed contacts of 2026-12-06 measured 46 ns on the medium bed. A bed shared by several cases is filled once (the first case pays it).")
+               f"{duration(total_est)} at {RATE_NS:.0f} ns per particle-step (the median rate of the 1600-disk cases run, "
+               "coarse-graining included; 94 ns was issue 27's rate before the 2D packed contacts). A bed shared by "
+               "several cases is filled once (the first case pays it).")
     return "\n".join(out) + "\n"
 
 
@@ -239,6 +317,7 @@ def blocks(studies):
     return {
         "paper-vs-ours": table_paper(studies),
         "convergence": table_convergence(studies.get("convergence"), "convergence"),
+        "converged": table_converged(studies.get("convergence")),
         "dtcheck": table_dtcheck(studies),
         "cost": table_cost(studies),
     }
@@ -264,12 +343,7 @@ def figures(studies, outdir):
     conv = studies.get("convergence")
     plan = conv["plan"] if conv else []
     done = [c for c in plan if c["summary"]]
-    # The two arms of the cross: E at V = 20 mm/s (seed 1), V at E = 6e8 Pa.
-    e_arm = sorted([c for c in done if abs(c["pull_velocity"] - 0.02) < 1e-12 and int(c["seed"]) == 1],
-                   key=lambda c: c["kappa"])
-    v_arm = sorted([c for c in done if abs(c["youngs_modulus"] - 6e8) < 1.0 and int(c["seed"]) == 1],
-                   key=lambda c: c["inertial_number"])
-    seeds = [c for c in done if abs(c["youngs_modulus"] - 6e7) < 1.0 and abs(c["pull_velocity"] - 0.02) < 1e-12]
+    e_arm, v_arm, seeds = arms(conv)
     # Convergence figure: the headlines against kappa and against I, 002's values as lines.
     quantities = [
         ("quiet_thickness_q2", 1e3, "quiet layer [mm]", 1e3 * PAPER["quiet"]),
@@ -367,7 +441,7 @@ def figures(studies, outdir):
 
 
 def main(argv):
-    global RESULTS, README
+    global RESULTS, README, RATE_NS
     check = "--check" in argv
     outdir = os.path.join(ROOT, "out", "intruder_pull_out_2d_study", "figures")
     if "--figures" in argv:
@@ -377,6 +451,7 @@ def main(argv):
     if "--readme" in argv:  # another README (default: the example's)
         README = argv[argv.index("--readme") + 1]
     studies = {t: s for t, s in ((t, load(t)) for t in TAGS) if s}
+    RATE_NS = measured_rate(studies)
     with open(README, encoding="utf-8") as f:
         text = f.read()
     new = render(text, blocks(studies))

@@ -3,7 +3,7 @@
 #   dtcheck      the quick cell at E = 6e8 Pa, V = 20 mm/s, pulled from one bed with the engine's
 #                step and with 002's dt_c / 60 (about 9 min at 94 ns per particle-step)
 #   convergence  002's cell: E = 6e7 ... 1.8e9 Pa at V = 20 mm/s, V = 20 ... 1.2 mm/s at
-#                E = 6e8 Pa, two more beds at the cheapest point (about 4.3 h at 94 ns per
+#                E = 6e8 Pa, four more beds at the cheapest point (about 2 h at 45 ns per
 #                particle-step, one thread; `--study convergence --list` prints the cases)
 # Within a tag the program runs the cases in order of their estimated cost, printing each
 # estimate first; every case writes its own directory under results/<tag>/ and a rerun skips the
