@@ -436,7 +436,8 @@ inline PullParams study_base() {
 /// Cases of a study tag (README, "Convergence"):
 ///  convergence  a cross in (kappa, I) on the paper's cell: E = 6e7, 1.8e8, 6e8, 1.8e9 Pa (kappa =
 ///               6.6e3 ... 2e5) at V = 20 mm/s, and V = 20, 6, 2, 1.2 mm/s (I = 1.8e-2 ... 1.1e-3,
-///               the last 002's) at E = 6e8 Pa; beds 2 to 5 at the cheapest point for the scatter
+///               the last 002's) at E = 6e8 Pa; E = 1.8e9 Pa at V = 6 mm/s (does kappa still not
+///               matter at a slower pull?); beds 2 to 5 at the cheapest point for the scatter
 ///               between beds (the sigma that decides which results have converged);
 ///  dtcheck      the quick cell at E = 6e8 Pa, V = 20 mm/s, pulled from one bed with the engine's
 ///               step and with 002's dt_c / 60 (26 times smaller).
@@ -454,6 +455,12 @@ inline std::vector<StudyCase> study_cases(const std::string& tag) {
       PullParams p = study_base();
       p.youngs_modulus = 6e8;
       p.pull_velocity = v;
+      add(p);
+    }
+    {  // is the cross separable? the stiffest E at a slow pull, against E = 6e8 Pa there
+      PullParams p = study_base();
+      p.youngs_modulus = 1.8e9;
+      p.pull_velocity = 6e-3;
       add(p);
     }
     for (std::uint64_t seed : {2u, 3u, 4u, 5u}) {
