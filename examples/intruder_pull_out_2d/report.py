@@ -224,44 +224,53 @@ def arms(study):
     return e_arm, v_arm, beds
 
 
-def last_step(arm, key, scale, sigma):
-    """The values along an arm, and the change of its last step in units of the standard deviation
-    of a difference of two beds (sqrt(2) sigma): |z| < 2 is "converged"."""
+def trend(arm, key, scale, sigma, xkey):
+    """The values along an arm; the slope per decade of a straight line through its last three
+    points against log10 of the arm's variable; z = that slope over its standard error for
+    independent values of standard deviation sigma. |z| < 2 counts as converged: over the arm's
+    last decade or so the headline moves no more than the beds scatter."""
     vals = [scale * c["summary"][key] for c in arm]
     if len(vals) < 2 or not sigma:
-        return vals, None
-    return vals, (vals[-1] - vals[-2]) / (math.sqrt(2.0) * sigma)
+        return vals, None, None
+    xs = [math.log10(c[xkey]) for c in arm[-3:]]
+    ys = vals[-3:]
+    xm, ym = sum(xs) / len(xs), sum(ys) / len(ys)
+    sxx = sum((x - xm) ** 2 for x in xs)
+    slope = sum((x - xm) * (y - ym) for x, y in zip(xs, ys)) / sxx
+    return vals, slope, slope / (sigma / math.sqrt(sxx))
 
 
 def table_converged(study):
     e_arm, v_arm, beds = arms(study)
     if len(beds) < 2 or len(e_arm) < 2:
-        return "_Needs the three beds at the cheapest point and two stiffnesses (`run_study.sh convergence`)._\n"
+        return "_Needs the beds at the cheapest point and two stiffnesses (`run_study.sh convergence`)._\n"
     ref = reference_case(study)
     out = [f"σ: standard deviation over the {len(beds)} beds at κ = {fmt(beds[0]['kappa'])}, I = "
-           f"{fmt(beds[0]['inertial_number'])}. z: the change over the arm's last step (κ {fmt(e_arm[-2]['kappa'])} → "
-           f"{fmt(e_arm[-1]['kappa'])}; I "
-           + (f"{fmt(v_arm[-2]['inertial_number'])} → {fmt(v_arm[-1]['inertial_number'])}" if len(v_arm) > 1 else "–")
-           + ") over √2 σ, the spread of a difference of two beds; |z| < 2 counts as converged. Value: the most "
-           f"converged case run, `{ref['case']}`, ± σ.",
+           f"{fmt(beds[0]['inertial_number'])}. Slope: of a straight line through the arm's last three points "
+           "against log10 κ or log10 I, per decade (towards 002: a rise of κ, a fall of I); z: the slope over its "
+           "standard error for points that scatter by σ. |z| < 2 counts as converged. Value: the most converged "
+           f"case run, `{ref['case']}`, ± σ.",
            "",
-           "| quantity | σ | κ arm: " + " → ".join(fmt(c["kappa"], 2) for c in e_arm) + " | z (κ) | I arm: "
-           + " → ".join(fmt(c["inertial_number"], 2) for c in v_arm) + " | z (I) | converged value |",
+           "| quantity | σ | κ arm: " + " → ".join(fmt(c["kappa"], 2) for c in e_arm) + " | slope (z), κ | I arm: "
+           + " → ".join(fmt(c["inertial_number"], 2) for c in v_arm) + " | slope (z), I | converged value |",
            "|---|---|---|---|---|---|---|"]
     for key, scale, label in HEADLINES:
         bed_vals = [scale * c["summary"][key] for c in beds]
         mean = sum(bed_vals) / len(bed_vals)
         sigma = math.sqrt(sum((v - mean) ** 2 for v in bed_vals) / (len(bed_vals) - 1))
-        ev, ez = last_step(e_arm, key, scale, sigma)
-        iv, iz = last_step(v_arm, key, scale, sigma)
+        ev, es, ez = trend(e_arm, key, scale, sigma, "kappa")
+        iv, is_, iz = trend(v_arm, key, scale, sigma, "inertial_number")
+        if is_ is not None:
+            is_ = -is_  # per decade of falling I
+            iz = -iz
 
-        def verdict(z):
-            return "–" if z is None else f"{z:+.1f}" + ("" if abs(z) < 2 else " **not converged**")
+        def verdict(slope, z):
+            return "–" if z is None else f"{fmt(slope, 2)} ({z:+.1f})" + ("" if abs(z) < 2 else " **not converged**")
 
         converged = (ez is not None and abs(ez) < 2) and (iz is None or abs(iz) < 2)
         value = f"{fmt(scale * ref['summary'][key])} ± {fmt(sigma, 2)}" + ("" if converged else " (not converged)")
-        out.append(f"| {label} | {fmt(sigma, 2)} | " + ", ".join(fmt(v) for v in ev) + f" | {verdict(ez)} | "
-                   + ", ".join(fmt(v) for v in iv) + f" | {verdict(iz)} | {value} |")
+        out.append(f"| {label} | {fmt(sigma, 2)} | " + ", ".join(fmt(v) for v in ev) + f" | {verdict(es, ez)} | "
+                   + ", ".join(fmt(v) for v in iv) + f" | {verdict(is_, iz)} | {value} |")
     return "\n".join(out) + "\n"
 
 
