@@ -26,7 +26,10 @@ import os
 import re
 import sys
 
+
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "common"))
+from readme_blocks import render  # noqa: E402  (examples/common/readme_blocks.py)
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 RESULTS = os.path.join(HERE, "results")
 README = os.path.join(HERE, "README.md")
@@ -330,16 +333,6 @@ def blocks(studies):
         "dtcheck": table_dtcheck(studies),
         "cost": table_cost(studies),
     }
-
-
-def render(text, blk):
-    for name, body in blk.items():
-        pat = re.compile(r"(<!-- BEGIN GENERATED: %s -->\n).*?(<!-- END GENERATED: %s -->)" % (re.escape(name), re.escape(name)),
-                         re.S)
-        if not pat.search(text):
-            raise SystemExit(f"report.py: README.md has no block '{name}'")
-        text = pat.sub(lambda m: m.group(1) + body + m.group(2), text)
-    return text
 
 
 def figures(studies, outdir):

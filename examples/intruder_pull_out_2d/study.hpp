@@ -33,6 +33,7 @@
 
 #include "statistics.hpp"
 
+#include "../common/csv_fields.hpp"
 #include "../common/provenance.hpp"
 
 namespace granule::examples::pull_out {
@@ -62,37 +63,8 @@ inline std::string num(double v, int digits = 6) {
   return buf;
 }
 
-inline std::string quoted(const std::string& s) {
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-
-/// Splits one CSV line (quotes allowed around fields).
-inline std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out(1);
-  bool in_quotes = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (in_quotes) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-        out.back() += '"';
-        ++i;
-      } else if (c == '"') {
-        in_quotes = false;
-      } else {
-        out.back() += c;
-      }
-    } else if (c == '"') {
-      in_quotes = true;
-    } else if (c == ',') {
-      out.emplace_back();
-    } else {
-      out.back() += c;
-    }
-  }
-  return out;
-}
+using granule::examples::csv_quoted;
+using granule::examples::csv_split;
 }  // namespace study_detail
 
 /// "# intruder_pull_out_2d <what>: commit ..., date ..., machine ..."
@@ -258,8 +230,8 @@ inline void write_summary(const std::filesystem::path& file, const std::string& 
   std::ostringstream s;
   s << comment << "quantity,value,unit,description\n";
   for (const auto& r : rows)
-    s << r.quantity << "," << (r.text.empty() ? study_detail::num(r.value, 7) : study_detail::quoted(r.text)) << ","
-      << r.unit << "," << study_detail::quoted(r.description) << "\n";
+    s << r.quantity << "," << (r.text.empty() ? study_detail::num(r.value, 7) : study_detail::csv_quoted(r.text)) << ","
+      << r.unit << "," << study_detail::csv_quoted(r.description) << "\n";
   study_detail::write_atomically(file, s.str());
 }
 
@@ -276,7 +248,7 @@ inline std::optional<std::map<std::string, std::string>> read_summary(const std:
       header = true;
       continue;
     }
-    const auto f = study_detail::split(line);
+    const auto f = study_detail::csv_split(line);
     if (f.size() >= 2) m[f[0]] = f[1];
   }
   if (!m.count("machine")) return std::nullopt;
@@ -320,7 +292,7 @@ inline std::vector<DragSample> read_samples(const std::filesystem::path& file) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (std::string line; std::getline(in, line);) {
     if (line.empty() || line[0] == '#') continue;
-    const auto f = study_detail::split(line);
+    const auto f = study_detail::csv_split(line);
     if (names.empty()) {
       for (auto n : f) names.push_back(n.substr(0, n.find(" [")));
       continue;

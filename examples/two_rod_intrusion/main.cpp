@@ -465,8 +465,8 @@ int run_study(Options o) {
     t << "shape,beds,peak_gap_over_d,peak_gap_parabola,peak_gap_p16,peak_gap_p84,peak_gap_per_bed,work_peak [J],"
          "work_plateau [J],peak_over_plateau,peak_over_plateau_p16,peak_over_plateau_p84,two_single_work [J],commit,"
          "date,machine\n"
-      << buf << tr::study_detail::quoted(prov.commit) << "," << tr::study_detail::quoted(prov.date) << ","
-      << tr::study_detail::quoted(prov.machine) << "\n";
+      << buf << granule::examples::csv_quoted(prov.commit) << "," << granule::examples::csv_quoted(prov.date) << ","
+      << granule::examples::csv_quoted(prov.machine) << "\n";
     tr::study_detail::write_atomically(results / ("peak_" + shape + ".csv"), t.str());
   }
   std::printf("\n%8s %5s %12s %12s %14s\n", "s/d", "beds", "W mean [J]", "W s.e. [J]", "very strong");

@@ -26,6 +26,7 @@
 
 #include "scene.hpp"
 
+#include "../common/csv_fields.hpp"
 #include "../common/provenance.hpp"
 
 namespace granule::examples::two_rod {
@@ -70,37 +71,8 @@ constexpr const char* kHeader =
     "pair_contacts,mean_fn [N],particles,packing_fraction,surface [m],wall_time [s],"
     "ns_per_particle_step,commit,date,machine";
 
-inline std::string quoted(const std::string& s) {
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-
-/// Splits one CSV line (quotes allowed around fields).
-inline std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out(1);
-  bool in_quotes = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (in_quotes) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-        out.back() += '"';
-        ++i;
-      } else if (c == '"') {
-        in_quotes = false;
-      } else {
-        out.back() += c;
-      }
-    } else if (c == '"') {
-      in_quotes = true;
-    } else if (c == ',') {
-      out.emplace_back();
-    } else {
-      out.back() += c;
-    }
-  }
-  return out;
-}
+using granule::examples::csv_quoted;
+using granule::examples::csv_split;
 
 /// Writes `text` to `file` through a temporary and a rename: the file exists whole or not at all.
 inline void write_atomically(const std::filesystem::path& file, const std::string& text) {
@@ -130,8 +102,8 @@ inline void write_case(const std::filesystem::path& file, const CaseResult& c) {
     << c.shape << "," << c.seed << "," << num(c.gap_over_d) << "," << num(c.work) << "," << num(c.body_work) << ","
     << num(c.peak_force) << "," << num(c.slope) << "," << num(c.very_strong) << "," << num(c.contacts) << ","
     << num(c.mean_fn) << "," << num(c.particles) << "," << num(c.packing) << "," << num(c.surface) << ","
-    << num(c.wall_time) << "," << num(c.ns_per_particle_step) << "," << study_detail::quoted(c.prov.commit) << ","
-    << study_detail::quoted(c.prov.date) << "," << study_detail::quoted(c.prov.machine) << "\n";
+    << num(c.wall_time) << "," << num(c.ns_per_particle_step) << "," << study_detail::csv_quoted(c.prov.commit) << ","
+    << study_detail::csv_quoted(c.prov.date) << "," << study_detail::csv_quoted(c.prov.machine) << "\n";
   study_detail::write_atomically(file, s.str());
 }
 
@@ -141,7 +113,7 @@ inline std::optional<CaseResult> read_case(const std::filesystem::path& file) {
   std::string header, row;
   if (!in || !std::getline(in, header) || !std::getline(in, row)) return std::nullopt;
   if (header != study_detail::kHeader) return std::nullopt;
-  const auto f = study_detail::split(row);
+  const auto f = study_detail::csv_split(row);
   if (f.size() != 18) return std::nullopt;
   CaseResult c;
   try {

@@ -28,7 +28,11 @@ class BinGrid {
           const IVec& count)
       : lo_(lo), hi_(hi), n_(count) {
     for (int a = 0; a < D::dim; ++a) {
-      const std::string ax = "[" + std::to_string(a) + "]";
+      // Appended rather than "[" + to_string(a): GCC 12 warns (-Wrestrict, a false positive) on
+      // operator+(const char*, string&&) once this is inlined.
+      std::string ax = std::to_string(a);
+      ax.insert(ax.begin(), '[');
+      ax.push_back(']');
       require_finite(lo[a], "BinGrid", "lo" + ax);
       require(std::isfinite(hi[a]) && hi[a] > lo[a], "BinGrid", "hi" + ax, hi[a], "(lo, inf)");
       require(count[a] >= 1 && count[a] <= 100000000, "BinGrid", "count" + ax, count[a],
