@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # The convergence study of intruder_pull_out_2d (issue 27; README, "Convergence"):
 #   dtcheck      the quick cell at E = 6e8 Pa, V = 20 mm/s, pulled from one bed with the engine's
-#                step and with 002's dt_c / 60 (about 9 min at 94 ns per particle-step)
+#                step and with 002's dt_c / 60
 #   convergence  002's cell: E = 6e7 ... 1.8e9 Pa at V = 20 mm/s, V = 20 ... 1.2 mm/s at
-#                E = 6e8 Pa, four more beds at the cheapest point (about 2 h at 45 ns per
-#                particle-step, one thread; `--study convergence --list` prints the cases)
+#                E = 6e8 Pa, E = 1.8e9 Pa at 6 mm/s, four more beds at the cheapest point
+#                (`--study convergence --list` prints the cases and their estimated cost; the
+#                README's cost table has what each took)
 # Within a tag the program runs the cases in order of their estimated cost, printing each
 # estimate first; every case writes its own directory under results/<tag>/ and a rerun skips the
 # cases done, so the script can be stopped and started again. Beds are cached in

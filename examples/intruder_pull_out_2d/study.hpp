@@ -63,8 +63,6 @@ inline std::string num(double v, int digits = 6) {
   return buf;
 }
 
-using granule::examples::csv_quoted;
-using granule::examples::csv_split;
 }  // namespace study_detail
 
 /// "# intruder_pull_out_2d <what>: commit ..., date ..., machine ..."
@@ -230,8 +228,8 @@ inline void write_summary(const std::filesystem::path& file, const std::string& 
   std::ostringstream s;
   s << comment << "quantity,value,unit,description\n";
   for (const auto& r : rows)
-    s << r.quantity << "," << (r.text.empty() ? study_detail::num(r.value, 7) : study_detail::csv_quoted(r.text)) << ","
-      << r.unit << "," << study_detail::csv_quoted(r.description) << "\n";
+    s << r.quantity << "," << (r.text.empty() ? study_detail::num(r.value, 7) : csv_quoted(r.text)) << ","
+      << r.unit << "," << csv_quoted(r.description) << "\n";
   study_detail::write_atomically(file, s.str());
 }
 
@@ -248,7 +246,7 @@ inline std::optional<std::map<std::string, std::string>> read_summary(const std:
       header = true;
       continue;
     }
-    const auto f = study_detail::csv_split(line);
+    const auto f = csv_split(line);
     if (f.size() >= 2) m[f[0]] = f[1];
   }
   if (!m.count("machine")) return std::nullopt;
@@ -292,7 +290,7 @@ inline std::vector<DragSample> read_samples(const std::filesystem::path& file) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (std::string line; std::getline(in, line);) {
     if (line.empty() || line[0] == '#') continue;
-    const auto f = study_detail::csv_split(line);
+    const auto f = csv_split(line);
     if (names.empty()) {
       for (auto n : f) names.push_back(n.substr(0, n.find(" [")));
       continue;

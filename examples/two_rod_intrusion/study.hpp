@@ -71,8 +71,6 @@ constexpr const char* kHeader =
     "pair_contacts,mean_fn [N],particles,packing_fraction,surface [m],wall_time [s],"
     "ns_per_particle_step,commit,date,machine";
 
-using granule::examples::csv_quoted;
-using granule::examples::csv_split;
 
 /// Writes `text` to `file` through a temporary and a rename: the file exists whole or not at all.
 inline void write_atomically(const std::filesystem::path& file, const std::string& text) {
@@ -102,8 +100,8 @@ inline void write_case(const std::filesystem::path& file, const CaseResult& c) {
     << c.shape << "," << c.seed << "," << num(c.gap_over_d) << "," << num(c.work) << "," << num(c.body_work) << ","
     << num(c.peak_force) << "," << num(c.slope) << "," << num(c.very_strong) << "," << num(c.contacts) << ","
     << num(c.mean_fn) << "," << num(c.particles) << "," << num(c.packing) << "," << num(c.surface) << ","
-    << num(c.wall_time) << "," << num(c.ns_per_particle_step) << "," << study_detail::csv_quoted(c.prov.commit) << ","
-    << study_detail::csv_quoted(c.prov.date) << "," << study_detail::csv_quoted(c.prov.machine) << "\n";
+    << num(c.wall_time) << "," << num(c.ns_per_particle_step) << "," << csv_quoted(c.prov.commit) << ","
+    << csv_quoted(c.prov.date) << "," << csv_quoted(c.prov.machine) << "\n";
   study_detail::write_atomically(file, s.str());
 }
 
@@ -113,7 +111,7 @@ inline std::optional<CaseResult> read_case(const std::filesystem::path& file) {
   std::string header, row;
   if (!in || !std::getline(in, header) || !std::getline(in, row)) return std::nullopt;
   if (header != study_detail::kHeader) return std::nullopt;
-  const auto f = study_detail::csv_split(row);
+  const auto f = csv_split(row);
   if (f.size() != 18) return std::nullopt;
   CaseResult c;
   try {

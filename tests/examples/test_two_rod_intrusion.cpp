@@ -30,6 +30,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "../../examples/common/csv_fields.hpp"
 #include "../../examples/two_rod_intrusion/scene.hpp"
 
 namespace tr = granule::examples::two_rod;
@@ -135,4 +136,20 @@ TEST_CASE("two_rod_intrusion: the bed cache is keyed by the bed parameters", "[e
   tr::BedParams bad = a;
   bad.diameter = -1.0;
   CHECK_THROWS_AS(bad.validate(), granule::InvalidParameter);
+}
+
+// The studies' result files quote text fields (commit, machine: "AMD EPYC x2, 2 threads") so
+// that they may hold commas and quotes; a field must come back as written (RFC 4180 quoting).
+TEST_CASE("study CSV fields: quoted text with commas and quotes splits back as written", "[examples]") {
+  using granule::examples::csv_quoted;
+  using granule::examples::csv_split;
+  const std::string machine = "AMD EPYC x2, 2 threads", odd = "say \"hi\", twice \"\"";
+  const auto f = csv_split("1.5," + csv_quoted(machine) + ",," + csv_quoted(odd) + "," + csv_quoted(""));
+  REQUIRE(f.size() == 5);
+  CHECK(f[0] == "1.5");
+  CHECK(f[1] == machine);
+  CHECK(f[2].empty());
+  CHECK(f[3] == odd);
+  CHECK(f[4].empty());
+  CHECK(csv_quoted("a\"b") == "\"a\"\"b\"");
 }
