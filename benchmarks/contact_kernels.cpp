@@ -255,6 +255,8 @@ const bool registered = [] {
   register_model<contact::LinearSpringDashpot>("LinearSpringDashpot");
   register_model<contact::HertzFrictionless>("HertzFrictionless");
   register_model<contact::HertzMindlin>("HertzMindlin");
+  register_model<contact::HertzMindlinIncremental>("HertzMindlinIncremental");
+  register_model<contact::HertzMindlinNonTensile>("HertzMindlinNonTensile");
   register_model<contact::HertzMindlinLegacy>("HertzMindlinLegacy");
   register_model<contact::HertzMindlinEpsd>("HertzMindlinEpsd");
   register_model<contact::HertzMindlinEpsdSjkr>("HertzMindlinEpsdSjkr");

@@ -94,14 +94,17 @@ struct HertzOdeResult {
 };
 
 /// RK4 integration of the one-contact damped Hertz ODE above from x = 0, x' = v until x returns
-/// to 0. `steps_per_elastic_time` fixes h = t_c(elastic) / steps.
+/// to 0. `steps_per_elastic_time` fixes h = t_c(elastic) / steps. `non_tensile`: the force is
+/// clipped at zero (contact/normal/non_tensile.hpp); once it reaches zero on the way out the
+/// particle flies free, so the speed at x = 0 is the separation speed.
 inline HertzOdeResult integrate_hertz_ode(double m_eff, double E_eff, double r_eff, double beta,
-                                          double v, int steps_per_elastic_time) {
+                                          double v, int steps_per_elastic_time, bool non_tensile = false) {
   const double kh = 4.0 / 3.0 * E_eff * std::sqrt(r_eff);
   const double cd = 2.0 * std::sqrt(5.0 / 6.0) * std::abs(beta) * std::sqrt(2.0 * E_eff * std::sqrt(r_eff) * m_eff);
   auto acc = [&](double x, double u) {
     if (x <= 0.0) return 0.0;
-    return -(kh * x * std::sqrt(x) + cd * std::sqrt(std::sqrt(x)) * u) / m_eff;
+    const double f = kh * x * std::sqrt(x) + cd * std::sqrt(std::sqrt(x)) * u;
+    return -(non_tensile ? std::max(f, 0.0) : f) / m_eff;
   };
   const double h = hertz_duration_exact(m_eff, E_eff, r_eff, v) / steps_per_elastic_time;
   double x = 0.0, u = v, t = 0.0;

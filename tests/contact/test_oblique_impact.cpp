@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <numbers>
 
 #include "contact_test_support.hpp"
@@ -111,6 +112,12 @@ ObliqueResult run_oblique(double e, double mu, double theta, bool wall, bool rec
 
 // Energy tolerance at 2000 steps per contact (justified at the linear e = 1 test below).
 constexpr double kEnergyTolerance = 3e-6;
+// The same for the Hertz-Mindlin potential form (the default): its excess is the first-order
+// error of the stick/slip switches too, about twice the linear law's. Measured max excess over
+// 10, 15, 20 deg (3D wall, e = 1, mu = 0.5): 1.4e-5, 7.1e-6, 3.6e-6, 1.8e-6 with 1000, 2000,
+// 4000, 8000 steps per contact (halving with dt: no energy source), where the LIGGGHTS 3.8
+// displacement form without the normal coupling gains 1.9 % at every step size.
+constexpr double kEnergyToleranceHertz = 1e-5;
 
 const double kAnglesDeg[] = {5.0, 15.0, 30.0, 45.0, 60.0, 75.0, 85.0, 88.0, 89.5};
 
@@ -192,9 +199,11 @@ TEMPLATE_TEST_CASE("Oblique impacts, Hertz-Mindlin with e = 1: energy never grow
   for (const bool wall : {true, false}) {
     for (const double deg : kAnglesDeg) {
       const auto res = run_oblique<D, contact::HertzMindlin>(1.0, 0.5, deg * kPi / 180.0, wall);
+      const auto inc = run_oblique<D, contact::HertzMindlinIncremental>(1.0, 0.5, deg * kPi / 180.0, wall);
       INFO("dim " << D::dim << (wall ? " wall" : " pair") << " angle " << deg << ": max (E - E0)/E0 = "
-                  << res.max_excess);
-      CHECK(res.max_excess <= kEnergyTolerance);
+                  << res.max_excess << ", force history with rescale " << inc.max_excess);
+      CHECK(res.max_excess <= kEnergyToleranceHertz);
+      CHECK(inc.max_excess <= kEnergyTolerance);
     }
   }
 }
@@ -237,7 +246,7 @@ TEMPLATE_TEST_CASE("Oblique impacts with damping, Truncation::Total: energy neve
                   << h.max_excess << ", min |F_t|/mu|F_n| while |v_c| > 5 % " << h.coulomb_min_sliding
                   << ", max " << h.coulomb_max << "; LinearSpringDashpot " << l.max_excess << ", "
                   << l.coulomb_min_sliding << ", " << l.coulomb_max);
-      CHECK(h.max_excess <= kEnergyTolerance);
+      CHECK(h.max_excess <= kEnergyToleranceHertz);
       CHECK(l.max_excess <= kEnergyTolerance);
       CHECK(h.coulomb_max <= 1.0 + 1e-9);
       CHECK(l.coulomb_max <= 1.0 + 1e-9);
@@ -290,4 +299,136 @@ TEMPLATE_TEST_CASE("Oblique impact on a wall: gross-sliding rebound and spin (im
     psi2_min = std::min(psi2_min, psi2);
   }
   CHECK(psi2_min < -0.3);
+}
+
+// ---- Chung & Ooi (2011), Test 4 -------------------------------------------------------------
+// Reference: Y. C. Chung & J. Y. Ooi, "Benchmark tests for verifying discrete element modelling
+// codes at particle impact level", Granular Matter 13 (2011) 643-656, Test 4: oblique impact of a
+// sphere on a rigid plane at a constant speed of 3.9 m/s and incidence angles 5-85 deg
+// (from the normal), aluminium oxide: R = 2.5 mm, rho = 4000 kg/m^3, E = 380 GPa, nu = 0.23,
+// mu = 0.092, e = 0.98; the published curves are the tangential restitution v_t'/v_t, the
+// rebound angular velocity and the rebound angle of the contact patch, atan(v_c'/v_n'), against
+// the incidence angle. (Issue 29 calls this "Test 6"; in the paper Test 6 is the impact at a
+// constant normal speed with varying spin.) The points below are the paper's curves as digitised
+// for the Kratos DEM application's benchmark data (DEMApplication/tests/DEM3D_chung_ooi_tests/
+// test4_data/paper_data, read there, not copied from code): the incidence angle of each point
+// is the digitised abscissa (it scatters by up to 0.2 deg around the nominal 5, 10, ... deg) and
+// is used as given. The paper gives the spin as negative (its axis); here it is the forward
+// rolling spin, so the sign is flipped.
+// The rigid plane is a wall of 1e6 E (its 1/E* and 1/G* terms are 1e-6 of the sphere's), with the
+// sphere's e and mu, so the mixed pair values are the sphere's.
+// Tolerances: e_t within 0.02, the spin within 15 rad/s (2.4 % of the peak 617 rad/s), the
+// rebound angle within 1.5 deg: the scatter of the published DEM codes and of the digitisation
+// (the default law is at most 0.012, 10 rad/s and 1.0 deg off, at 10-15 deg where the curves
+// are steepest). The force history with the unloading rescale (HertzMindlinIncremental, the
+// default until 2026-12) is off by 0.09 in e_t and 30 rad/s (2.5x) at 5 deg: checked below, so
+// that the test would see that form come back.
+namespace {
+
+struct ChungOoiPoint {
+  double angle_deg, e_t, spin, rebound_deg;
+};
+// e_t, spin and rebound angle were digitised from three figures with their own abscissae; the
+// three agree within 0.2 deg and the first is used for all three.
+constexpr ChungOoiPoint kChungOoiTest4[] = {
+    {5.17, 0.948, 19.3, 3.76},     {10.16, 0.687, 213.0, -1.56},  {14.99, 0.624, 377.8, -5.54},
+    {20.06, 0.616, 510.6, -7.54},  {25.05, 0.634, 599.4, -7.54},  {30.12, 0.684, 616.5, -3.55},
+    {40.02, 0.781, 544.8, 11.57},  {50.0, 0.845, 457.0, 29.35},   {59.98, 0.893, 357.5, 47.79},
+    {69.96, 0.932, 246.2, 64.58},  {80.02, 0.966, 126.3, 78.70},  {85.01, 0.983, 63.1, 84.52}};
+
+struct Test4Result {
+  double e_t = 0.0, spin = 0.0, rebound_deg = 0.0, max_excess = -1.0;
+};
+
+// Sphere of Chung & Ooi's aluminium oxide on a plane, 2000 steps per (elastic, normal) contact.
+template <class Model>
+Test4Result run_chung_ooi_test4(double angle_deg, double e = 0.98) {
+  using D = Dim3;
+  using Vec = D::Vec;
+  Material al2o3;
+  al2o3.youngs_modulus = 3.8e11;  // [Pa]
+  al2o3.poisson_ratio = 0.23;
+  al2o3.density = 4000.0;  // [kg/m^3]
+  al2o3.restitution = e;
+  al2o3.friction = 0.092;
+  Material rigid = al2o3;
+  rigid.youngs_modulus = 1.0e6 * al2o3.youngs_modulus;
+  const double r = 2.5e-3, v = 3.9, th = angle_deg * kPi / 180.0;  // [m], [m/s]
+  const double m = mass_of<D>(al2o3.density, r, 1.0);
+  const double E_eff = al2o3.youngs_modulus / (1.0 - 0.23 * 0.23);
+  SimulationConfig<D> cfg;
+  cfg.domain.lo = Vec::Constant(-0.05);
+  cfg.domain.hi = Vec::Constant(0.05);
+  cfg.dt = hertz_duration_exact(m, E_eff, r, v * std::cos(th)) / 2000;
+  Simulation<D, Model> sim(cfg);
+  const auto pm = sim.add_material(al2o3);
+  sim.add_wall(geometry::PlaneShape<D>(Vec::Zero(), Vec::UnitZ()), sim.add_wall_material(rigid));
+  const double gap = 3.3 * v * std::cos(th) * cfg.dt;
+  const auto id = sim.add_particle(Vec(0.0, 0.0, r + gap), r, pm, Vec(v * std::sin(th), 0.0, -v * std::cos(th)));
+  const double E0 = sim.kinetic_energy();
+  Test4Result out;
+  bool touched = false;
+  int after = 0;
+  for (int k = 0; k < 100000; ++k) {
+    sim.step();
+    out.max_excess = std::max(out.max_excess, (sim.kinetic_energy() + sim.elastic_energy() - E0) / E0);
+    if (sim.contact_count() > 0) touched = true;
+    if (touched && sim.contact_count() == 0 && ++after > 3) break;
+  }
+  const auto& p = sim.particles();
+  const std::size_t i = sim.index_of(id);
+  out.e_t = p.v[i].x() / (v * std::sin(th));
+  out.spin = p.omega[i].y();
+  const double vc = p.v[i].x() - r * p.omega[i].y();  // contact-patch tangential velocity after
+  out.rebound_deg = std::atan(vc / p.v[i].z()) * 180.0 / kPi;
+  return out;
+}
+
+}  // namespace
+
+// The three laws at every angle also go to chung_ooi_test4.csv in the working directory
+// (<build>/tests), which benchmarks/plot_chung_ooi.py draws against the published points
+// (the figure of docs/physics.md, "Tangential laws").
+TEST_CASE("Chung & Ooi (2011) Test 4: oblique impacts on a rigid plane at every angle (default Hertz-Mindlin)",
+          "[contact][oblique][benchmark]") {
+  std::ofstream csv("chung_ooi_test4.csv");
+  csv << "angle_deg,law,e_t,spin,rebound_deg\n";
+  for (double deg = 1.0; deg <= 89.0; deg += deg < 20.0 ? 1.0 : 5.0) {
+    const auto a = run_chung_ooi_test4<contact::HertzMindlin>(deg);
+    const auto b = run_chung_ooi_test4<contact::HertzMindlinIncremental>(deg);
+    const auto c = run_chung_ooi_test4<contact::HertzMindlinLegacy>(deg);
+    csv << deg << ",potential," << a.e_t << ',' << a.spin << ',' << a.rebound_deg << '\n' << deg
+        << ",incremental," << b.e_t << ',' << b.spin << ',' << b.rebound_deg << '\n' << deg << ",liggghts38,"
+        << c.e_t << ',' << c.spin << ',' << c.rebound_deg << '\n';
+  }
+  for (const auto& ref : kChungOoiTest4) {
+    const auto res = run_chung_ooi_test4<contact::HertzMindlin>(ref.angle_deg);
+    INFO("angle " << ref.angle_deg << " deg: e_t " << res.e_t << " (paper " << ref.e_t << "), spin " << res.spin
+                  << " rad/s (" << ref.spin << "), rebound angle " << res.rebound_deg << " deg ("
+                  << ref.rebound_deg << ")");
+    CHECK(std::abs(res.e_t - ref.e_t) <= 0.02);
+    CHECK(std::abs(res.spin - ref.spin) <= 15.0);
+    CHECK(std::abs(res.rebound_deg - ref.rebound_deg) <= 1.5);
+  }
+  // The force history with the unloading rescale departs in the micro-slip regime.
+  const auto& five = kChungOoiTest4[0];
+  const auto inc = run_chung_ooi_test4<contact::HertzMindlinIncremental>(five.angle_deg);
+  INFO("HertzMindlinIncremental at " << five.angle_deg << " deg: e_t " << inc.e_t << ", spin " << inc.spin);
+  CHECK(inc.e_t < five.e_t - 0.05);
+  CHECK(inc.spin > 2.0 * five.spin);
+}
+
+// Reference: energy balance (as above) for Chung & Ooi's sphere with e = 1: the potential form
+// stores k_t |xi|^2 / 2 and puts k_t' |xi|^2 / 2 into the normal force, so while the contact
+// sticks (5 deg: micro-slip regime; 30 deg: stick, then slip) energy is conserved up to the
+// integration error, and slip dissipates. Without the coupling term (the LIGGGHTS 3.8
+// displacement form) impacts gain up to 2.3 % of E0 during the contact (mu = 0.5, 25 deg;
+// measured in a one-contact model of this test). Tolerance as kEnergyToleranceHertz.
+TEST_CASE("Chung & Ooi (2011) Test 4 with e = 1: the default Hertz-Mindlin never gains energy",
+          "[contact][energy][oblique][benchmark]") {
+  for (const double deg : {2.0, 5.0, 10.0, 30.0, 60.0}) {
+    const auto res = run_chung_ooi_test4<contact::HertzMindlin>(deg, 1.0);
+    INFO("angle " << deg << ": max (E - E0)/E0 = " << res.max_excess);
+    CHECK(res.max_excess <= kEnergyToleranceHertz);
+  }
 }

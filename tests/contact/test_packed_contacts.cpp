@@ -111,6 +111,11 @@ StoredState<Model> random_state(std::mt19937_64& rng, const contact::ContactGeom
     const double kt = Model::TangentialLaw::StiffnessLaw::eval(prm.tangential.stiffness, g, nr, gamma);
     s.tangential.kt_old = kt * uniform(rng, 0.8, 1.25);
   }
+  if constexpr (requires { s.tangential.xi; }) {  // displacement history, up to twice the limit
+    double gamma = 0.0;
+    const double kt = Model::TangentialLaw::StiffnessLaw::eval(prm.tangential.stiffness, g, nr, gamma);
+    s.tangential.xi = uniform(rng, 0.0, 2.0) * 0.5 * fn / kt * random_unit(rng);
+  }
   if constexpr (requires { s.rolling.m_roll; }) {
     // Up to twice the limit, split into its tangent-plane and normal parts.
     const Eigen::Vector3d m = uniform(rng, 0.0, 2.0) * 0.5 * g.r_eff * fn * random_unit(rng);
@@ -206,6 +211,11 @@ void check_packed_against_scalar(double dt, std::uint64_t seed) {
         double gamma = 0.0;
         if (Model::TangentialLaw::StiffnessLaw::eval(prm.tangential.stiffness, gs, contact::NormalResult{}, gamma) < before[3]) ++unloading;
       }
+      if constexpr (requires { ss.tangential.xi; }) {
+        if (before[0] == 0.0 && before[1] == 0.0 && before[2] == 0.0) ++fresh;
+        const double limit = prm.tangential.mu_s * std::abs(cs.fn);
+        if (cs.ft.norm() > (1.0 - 1e-12) * limit && limit > 0.0) ++sliding;
+      }
       if constexpr (requires { ss.rolling.m_roll; }) {
         const double mmax = prm.rolling.mu_r * gs.r_eff * std::abs(cs.fn);
         const double m = std::sqrt(contact::EpsdRolling::squared_norm<Dim3>(ss.rolling));
@@ -243,6 +253,13 @@ void check_packed_against_scalar(double dt, std::uint64_t seed) {
       CHECK(sliding >= 3);
       CHECK(sliding + 3 <= chunk->count);
       CHECK(unloading >= 3);
+    }
+    CHECK(fresh >= 3);
+  }
+  if constexpr (requires(StoredState<Model> s) { s.tangential.xi; }) {
+    if (dt > 0.0) {
+      CHECK(sliding >= 3);
+      CHECK(sliding + 3 <= chunk->count);
     }
     CHECK(fresh >= 3);
   }
@@ -507,7 +524,8 @@ TEST_CASE("The touch scan lists a layer's touching entries and moves slots in en
 
 TEMPLATE_TEST_CASE("Packed contact evaluation equals the one-at-a-time evaluation", "[contact][packed]",
                    contact::LinearFrictionless, contact::HertzFrictionless, contact::HertzMindlin,
-                   contact::HertzMindlinEpsd, contact::HertzMindlinEpsdSjkr) {
+                   contact::HertzMindlinIncremental, contact::HertzMindlinNonTensile, contact::HertzMindlinEpsd,
+                   contact::HertzMindlinEpsdSjkr) {
   STATIC_REQUIRE(TestType::lanes);
   SECTION("a step of 1 us") { check_packed_against_scalar<TestType>(1e-6, 11); }
   SECTION("a step of 20 us (large increments)") { check_packed_against_scalar<TestType>(2e-5, 12); }

@@ -107,6 +107,11 @@ Stored<Model> random_state(std::mt19937_64& rng, const contact::ContactGeometry<
     s.tangential.kt_old = Model::TangentialLaw::StiffnessLaw::eval(prm.tangential.stiffness, g, nr, gamma) *
                           uniform(rng, 0.8, 1.25);
   }
+  if constexpr (requires { s.tangential.xi; }) {  // displacement history, up to twice the limit
+    double gamma = 0.0;
+    const double kt = Model::TangentialLaw::StiffnessLaw::eval(prm.tangential.stiffness, g, nr, gamma);
+    s.tangential.xi = uniform(rng, -2.0, 2.0) * 0.5 * fn / kt * Vec2(-g.n.y(), g.n.x());
+  }
   if constexpr (requires { s.rolling.m_roll; }) {
     s.rolling.m_roll = uniform(rng, -2.0, 2.0) * prm.rolling.mu_r * g.r_eff * fn;
   }
@@ -280,7 +285,7 @@ BedRun run_bed(bool packed) {
 
 TEMPLATE_TEST_CASE("Packed 2D contact evaluation equals the one-at-a-time evaluation", "[contact][packed][2d]",
                    contact::LinearCoulombRolling, contact::HertzMindlin, contact::LinearFrictionless,
-                   contact::HertzMindlinEpsd) {
+                   contact::HertzMindlinEpsd, contact::HertzMindlinIncremental) {
   STATIC_REQUIRE(TestType::lanes);
   STATIC_REQUIRE(Simulation<Dim2, TestType>::kPackable);
   SECTION("a step of 1 us") { packed2d_test::check_packed_against_scalar<TestType>(1e-6, 31); }

@@ -4,7 +4,8 @@
 //   normal -> cohesion -> tangential -> rolling
 //
 // The tangential and rolling laws see the normal force including cohesion (their limits use
-// |F_n| as in paper 001 eq. A12 and A14). Each slot is a policy with
+// |F_n| as in paper 001 eq. A12 and A14) and, for a tangential law whose potential depends on
+// the overlap (couples_normal), that law's normal term. Each slot is a policy with
 //   Params  make(const PairMaterial&)          precomputed once per material pair
 //   State<D>                                    per-contact history (empty struct if none)
 //   eval(Params, ContactGeometry<D>, ...)       a few lines of maths, no branching on options
@@ -18,6 +19,7 @@
 #include "granule/contact/geometry.hpp"
 #include "granule/contact/normal/hertz.hpp"
 #include "granule/contact/normal/linear.hpp"
+#include "granule/contact/normal/non_tensile.hpp"
 #include "granule/contact/rolling/constant_torque.hpp"
 #include "granule/contact/rolling/epsd.hpp"
 #include "granule/contact/rolling/none.hpp"
@@ -39,6 +41,17 @@ constexpr bool needs_twist() {
   }
 }
 /// A slot law whose eval is written over D::Real declares `static constexpr bool lanes = true`.
+/// A tangential law whose elastic force derives from a potential that also depends on the
+/// overlap declares `static constexpr bool couples_normal = true` and
+/// `normal_coupling(Params, g, nr, State)`, the normal force of that potential.
+template <class Law>
+constexpr bool couples_normal() {
+  if constexpr (requires { Law::couples_normal; }) {
+    return Law::couples_normal;
+  } else {
+    return false;
+  }
+}
 template <class Law>
 constexpr bool lanes() {
   if constexpr (requires { Law::lanes; }) {
@@ -100,6 +113,11 @@ struct ContactModel {
   static ContactForce<D> evaluate(const Params& p, const ContactGeometry<D>& g, State<D>& s) {
     NormalResultOf<D> nr = Normal::eval(p.normal, g);
     nr.fn -= Cohesion::eval(p.cohesion, g);
+    if constexpr (detail::couples_normal<Tangential>()) {
+      // The normal force of the tangential spring's potential, from the history as the last
+      // step left it, so that the Coulomb limits below see the whole normal force.
+      nr.fn += Tangential::normal_coupling(p.tangential, g, nr, s.tangential);
+    }
     const typename D::Vec ft = Tangential::eval(p.tangential, g, nr, s.tangential);
     const typename D::AngVec mr = Rolling::eval(p.rolling, g, nr, s.rolling);
     ContactForce<D> f;
@@ -137,6 +155,10 @@ using LinearSpringDashpot = ContactModel<LinearNormal, LinearTangential>;
 using HertzFrictionless = ContactModel<HertzNormal>;
 using HertzMindlin = ContactModel<HertzNormal, MindlinTangential>;
 using HertzMindlinLegacy = ContactModel<HertzNormal, MindlinTangentialLegacy>;
+/// Hertz-Mindlin with the force history and unloading rescale (the default until 2026-12-06).
+using HertzMindlinIncremental = ContactModel<HertzNormal, MindlinTangentialIncremental>;
+/// Hertz-Mindlin whose normal force never pulls (LAMMPS limit_damping; normal/non_tensile.hpp).
+using HertzMindlinNonTensile = ContactModel<NonTensile<HertzNormal>, MindlinTangential>;
 using HertzMindlinEpsd = ContactModel<HertzNormal, MindlinTangential, EpsdRolling>;
 using HertzMindlinEpsdSjkr = ContactModel<HertzNormal, MindlinTangential, EpsdRolling, SjkrCohesion>;
 /// Paper 002: linear normal law, incremental regularised Coulomb friction, rolling friction.
