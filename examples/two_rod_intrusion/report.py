@@ -17,6 +17,7 @@ of the paper has no figures to digitise, so the plots mark the stated values and
 """
 import csv
 import glob
+import math
 import os
 import re
 import sys
@@ -194,7 +195,20 @@ def table_paper(studies):
 
 
 # The box-size checks: each pair is (smaller box's tag, larger box's tag, their sides).
-BOX_CHECKS = (("square", "box13", "9 × 9 cm", "13 × 13 cm"), ("box13", "box17", "13 × 13 cm", "17 × 17 cm"))
+BOX_CHECKS = (("square", "box13", "9 × 9 cm", "13 × 13 cm"), ("box13", "box17", "13 × 13 cm", "17 × 17 cm"),
+              ("box17", "box25", "17 × 17 cm", "25 × 25 cm (the paper's)"))
+
+
+def standard_errors(a, b):
+    """Standard errors of two boxes' mean W at one gap. A box with one bed has no spread of its
+    own: it gets the one-bed spread of the other box, se * sqrt(beds) (the beds' scatter is
+    assumed not to depend on the box)."""
+    sa, sb = a["work_se"], b["work_se"]
+    if not math.isfinite(sb) and math.isfinite(sa):
+        sb = sa * math.sqrt(a["beds"])
+    if not math.isfinite(sa) and math.isfinite(sb):
+        sa = sb * math.sqrt(b["beds"])
+    return sa, sb
 
 
 def box_accepted(studies, small_tag, big_tag):
@@ -208,7 +222,12 @@ def box_accepted(studies, small_tag, big_tag):
     both = [(ws[r["gap_over_d"]], r) for r in big["gaps"]["square"] if r["gap_over_d"] in ws]
     if not both:
         return None
-    return all(abs(b["work_mean"] - a["work_mean"]) < (a["work_se"] ** 2 + b["work_se"] ** 2) ** 0.5 for a, b in both)
+    return all(abs(b["work_mean"] - a["work_mean"]) < math.hypot(*standard_errors(a, b)) for a, b in both)
+
+
+def beds(r):
+    n = int(r["beds"])
+    return f"{n} beds" if n > 1 else "1 bed; ± the other box's one-bed spread"
 
 
 def table_box(studies):
@@ -227,9 +246,10 @@ def table_box(studies):
                  f"{big_name} [N/m] |", "|---|---|---|---|---|---|"]
         for a, b in both:
             diff = b["work_mean"] - a["work_mean"]
-            se = (a["work_se"] ** 2 + b["work_se"] ** 2) ** 0.5
-            rows.append(f"| {fmt(a['gap_over_d'])} | {fmt(a['work_mean'])} ± {fmt(a['work_se'], 2)} ({int(a['beds'])} beds) | "
-                        f"{fmt(b['work_mean'])} ± {fmt(b['work_se'], 2)} ({int(b['beds'])} beds) | "
+            se = math.hypot(*standard_errors(a, b))
+            sa, sb = standard_errors(a, b)
+            rows.append(f"| {fmt(a['gap_over_d'])} | {fmt(a['work_mean'])} ± {fmt(sa, 2)} ({beds(a)}) | "
+                        f"{fmt(b['work_mean'])} ± {fmt(sb, 2)} ({beds(b)}) | "
                         f"{100 * diff / a['work_mean']:+.1f} % | {100 * se / a['work_mean']:.1f} % | "
                         f"{fmt(a['slope_mean'], 3)} → {fmt(b['slope_mean'], 3)} |")
         ok = box_accepted(studies, small_tag, big_tag)
@@ -361,7 +381,7 @@ def main(argv):
     outdir = os.path.join(HERE, "..", "..", "out", "two_rod_study", "figures")
     if "--figures" in argv:
         outdir = argv[argv.index("--figures") + 1]
-    studies = [s for s in (load(t) for t in ("square", "cylinder", "rho1774", "box13", "box17")) if s]
+    studies = [s for s in (load(t) for t in ("square", "cylinder", "rho1774", "box13", "box17", "box25")) if s]
     with open(README, encoding="utf-8") as f:
         text = f.read()
     new = render(text, blocks(studies))
