@@ -612,6 +612,7 @@ void run_grid_sweep(const Options& o, io::CsvWriter& csv, std::vector<std::array
   const ls::ChainHertz hz(gm);
   ls::GridOptions base;
   base.material = gm;
+  base.load = ls::GridLoad::Uniform;
   base.preload = hz.force_for_sound_speed(gm.paper_c0);
   base.restitution = 1.0;
   Material m;

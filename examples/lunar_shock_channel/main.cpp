@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <stdexcept>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -17,6 +19,8 @@
 #endif
 
 #include <granule/io/csv.hpp>
+
+#include "../common/provenance.hpp"
 
 #include "scene.hpp"
 
@@ -33,13 +37,20 @@ void usage() {
       "  --out DIR              output directory (out/lunar_shock_channel)\n"
       "  --threads N            OpenMP threads (2)\n"
       "\n"
-      "validation (001 section 2.2: 5 x 5 grid, incident particle along the middle row):\n"
+      "validation (001 section 2.2 = the set-up of its ref. [93]: a 5 x 5 grid standing on a floor,\n"
+      "an incident particle dropped onto the top of the middle column):\n"
       "  --material steel|soft|both   table-1 species (both)\n"
       "  --velocities LIST      impact speeds v_im, comma separated [m/s]\n"
       "                         (1e-6,1e-5,1e-4,1e-3,1e-2,3e-2,0.1,0.3,1,3,10)\n"
-      "  --preload F0           static force per contact along the rows [N];\n"
+      "  --load gravity|uniform what loads the grid statically (gravity: the grid's own weight)\n"
+      "  --gravity LIST         gravity load: g values, comma separated [m/s^2] (9.81,1.625)\n"
+      "  --preload F0|paper     uniform load: static force per contact along the struck lines [N];\n"
       "                         'paper' = the F0 whose chain sound speed 2R sqrt(k_lin/m) is table 1's\n"
       "                         c_0 (default), 0 = no pre-load (sonic vacuum)\n"
+      "  --sweep LIST           also measure the plateau under uniform pre-loads F0 = w m g_Earth for\n"
+      "                         these w (1e-2 ... 100, half decades) and where it meets table 1\n"
+      "  --no-sweep             skip that sweep\n"
+      "  --results DIR          where the CSV files go (--out)\n"
       "  --restitution E        coefficient of restitution e [-] (1: elastic)\n"
       "  --length N             particles along the struck row, striker included (6 = striker + 5)\n"
       "  --dt DT                time step [s] (0: the largest the engine's check allows)\n"
@@ -86,75 +97,188 @@ std::vector<double> parse_list(const std::string& s) {
   return v;
 }
 
-int run_validation(const std::vector<GridMaterial>& mats, const std::vector<double>& velocities, double preload,
-                   bool preload_paper, double restitution, int length, double dt, double plateau_max,
-                   double shock_min, const std::filesystem::path& out) {
-  io::CsvWriter csv(out / "validation.csv",
-                    {{"material", ""}, {"preload", "N"}, {"v_im", "m/s"}, {"c_w", "m/s"}, {"c_w_uncertainty", "m/s"},
-                     {"c_w_over_c_w_1", ""}, {"dt", "s"}});
-  io::CsvWriter summary(out / "validation_summary.csv",
-                        {{"material", ""}, {"preload", "N"}, {"static_overlap", "m"}, {"c0_chain", "m/s"},
-                         {"c0_measured", "m/s"}, {"plateau_spread", ""}, {"c0_paper", "m/s"},
-                         {"shock_exponent", ""}, {"shock_exponent_uncertainty", ""}});
-  int status = 0;
-  for (std::size_t mi = 0; mi < mats.size(); ++mi) {
-    const GridMaterial& gm = mats[mi];
-    const ChainHertz hz(gm);
-    GridOptions o;
-    o.material = gm;
-    o.preload = preload_paper ? hz.force_for_sound_speed(gm.paper_c0) : preload;
-    o.restitution = restitution;
-    o.length = length;
-    o.dt = dt;
-    std::printf("%s: R = %.2f mm, m = %.4g kg, pre-load F0 = %.4g N per contact (overlap %.4g m), chain c_0 = %.4g m/s\n",
-                gm.name.c_str(), gm.radius * 1e3, hz.mass, o.preload, o.preload > 0 ? hz.overlap_pp(o.preload) : 0.0,
-                o.preload > 0 ? hz.sound_speed(o.preload) : 0.0);
-    std::vector<GridResult> rs;
-    double c_ref = 0.0;
-    for (double v : velocities) {
-      rs.push_back(run_grid(o, v));
-      if (std::abs(v - 1.0) < 1e-12) c_ref = rs.back().c_w;
-    }
-    std::vector<double> plateau, vs, cs;
-    for (const auto& r : rs) {
-      std::printf("  v_im = %9.3g m/s  c_w = %10.5g +- %8.3g m/s  (dt %.3g s, %llu steps)\n", r.v_im, r.c_w,
-                  r.c_w_uncertainty, r.dt, static_cast<unsigned long long>(r.steps));
-      csv.write_row({double(mi), o.preload, r.v_im, r.c_w, r.c_w_uncertainty, c_ref > 0 ? r.c_w / c_ref : NAN, r.dt});
-      if (r.v_im <= plateau_max * (1 + 1e-9)) plateau.push_back(r.c_w);
-      if (r.v_im >= shock_min * (1 - 1e-9)) {
-        vs.push_back(r.v_im);
-        cs.push_back(r.c_w);
-      }
-    }
-    double c0 = NAN, spread = NAN, lo = 1e300, hi = -1e300, s = 0;
-    for (double c : plateau) {
-      s += c;
-      lo = std::min(lo, c);
-      hi = std::max(hi, c);
-    }
-    if (!plateau.empty()) {
-      c0 = s / plateau.size();
-      spread = (hi - lo) / c0;
-    }
-    PowerLaw pl{NAN, NAN, NAN};
-    if (vs.size() >= 3) pl = fit_power_law(vs, cs);
-    const double c0_chain = o.preload > 0 ? hz.sound_speed(o.preload) : 0.0;
-    std::printf("  plateau (v_im <= %g m/s): c_0 = %.5g m/s (spread %.2g %%), chain formula %.5g m/s, paper %.5g m/s\n",
-                plateau_max, c0, 100 * spread, c0_chain, gm.paper_c0);
-    std::printf("  shock branch (v_im >= %g m/s): c_w ~ v_im^%.4f +- %.4f (expected 1/5)\n", shock_min, pl.exponent,
-                pl.exponent_uncertainty);
-    if (o.preload > 0 && std::isfinite(c0)) {
-      // c0 ~ F0^(1/6) in the acoustic limit: the pre-load whose measured plateau is the paper's.
-      const double f_meas = o.preload * std::pow(gm.paper_c0 / c0, 6.0);
-      std::printf("  pre-load giving the paper's c_0 with this measurement: F0 = %.4g N (overlap %.4g m, %.3g m g)\n",
-                  f_meas, hz.overlap_pp(f_meas), f_meas / (hz.mass * 9.81));
-    }
-    summary.write_row({double(mi), o.preload, o.preload > 0 ? hz.overlap_pp(o.preload) : 0.0, c0_chain, c0, spread,
-                       gm.paper_c0, pl.exponent, pl.exponent_uncertainty});
-    if (!std::isfinite(pl.exponent)) status = 1;
+/// One load case of the grid validation.
+struct GridCase {
+  GridLoad load = GridLoad::Gravity;
+  double gravity = kEarthGravity;  ///< [m/s^2] (gravity load)
+  double preload = 0.0;            ///< [N] (uniform load)
+  bool preload_paper = false;      ///< uniform F0 from table 1's c_0 by the chain formula
+  std::string label() const {
+    char b[64];
+    if (load == GridLoad::Gravity) std::snprintf(b, sizeof(b), "gravity %g m/s^2", gravity);
+    else if (preload_paper) std::snprintf(b, sizeof(b), "uniform F0 from table 1's c_0");
+    else std::snprintf(b, sizeof(b), "uniform F0 = %g N", preload);
+    return b;
   }
-  std::printf("material index: 0..%zu in the order given; output in %s\n", mats.size() - 1, out.string().c_str());
-  return status;
+};
+
+struct ValidationOptions {
+  std::vector<GridMaterial> materials;
+  std::vector<GridCase> cases;
+  std::vector<double> velocities;
+  double restitution = 1.0;
+  int length = 6;
+  double dt = 0.0;
+  double plateau_max = 1e-4;
+  double shock_min = 1.0;
+  bool sweep = true;
+  std::vector<double> sweep_weights;  ///< uniform pre-loads of the sweep [m g_Earth]
+};
+
+/// A CSV file whose first line says where its numbers came from.
+struct ResultFile {
+  std::ofstream f;
+  ResultFile(const std::filesystem::path& path, const std::string& header) : f(path) {
+    if (!f) throw std::runtime_error("cannot write " + path.string());
+    const examples::Provenance p = examples::provenance_now();
+    f << "# lunar_shock_channel validation: commit " << p.commit << "; date " << p.date << "; machine " << p.machine
+      << "\n"
+      << header << "\n";
+    f.precision(7);
+  }
+  template <class... T>
+  void row(const T&... v) {
+    int k = 0;
+    ((f << (k++ ? "," : "") << v), ...);
+    f << "\n";
+  }
+};
+
+/// Mean of the plateau speeds and their relative spread (max - min) / mean.
+std::pair<double, double> plateau_of(const std::vector<double>& c) {
+  if (c.empty()) return {NAN, NAN};
+  double s = 0, lo = 1e300, hi = -1e300;
+  for (double x : c) {
+    s += x;
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
+  }
+  return {s / c.size(), (hi - lo) / (s / c.size())};
+}
+
+/// The plateau against a uniform pre-load F0 = w m g_Earth, measured at two weak impacts in the
+/// linear regime (the dynamic overlap 1e-3 and 1e-2 of the static one); then the F0 at which the
+/// measured plateau equals table 1's c_0 (log-log interpolation between the bracketing F0).
+void run_preload_sweep(const ValidationOptions& vo, const std::filesystem::path& results) {
+  ResultFile sweep(results / "grid_preload_sweep.csv",
+                   "material,preload [N],preload_over_weight_earth,static_overlap [m],c0_chain [m/s],"
+                   "c0_measured [m/s],c0_measured_10x [m/s],measured_over_chain,c0_paper [m/s]");
+  ResultFile at(results / "grid_preload_at_paper_c0.csv",
+                "material,c0_paper [m/s],preload_chain [N],preload_measured [N],preload_measured_over_weight_earth,"
+                "preload_measured_over_weight_moon,static_overlap_measured [m],measured_over_chain_there");
+  for (const GridMaterial& gm : vo.materials) {
+    const ChainHertz hz(gm);
+    const double weight = hz.mass * kEarthGravity;
+    std::vector<double> f0s, c0s, ratio;
+    for (double w : vo.sweep_weights) {
+      GridOptions o;
+      o.material = gm;
+      o.load = GridLoad::Uniform;
+      o.preload = w * weight;
+      o.restitution = vo.restitution;
+      o.length = vo.length;
+      o.dt = vo.dt;
+      const double d0 = hz.overlap_pp(o.preload);
+      const double v_lin = d0 * std::sqrt(hz.k_lin(o.preload) / hz.mass);  // particle speed of a d0 swing
+      const double c_a = run_grid(o, 1e-3 * v_lin).c_w, c_b = run_grid(o, 1e-2 * v_lin).c_w;
+      const double chain = hz.sound_speed(o.preload);
+      std::printf("  %s F0 = %9.4g N (%7.3g m g): chain %9.5g m/s, measured %9.5g (%9.5g at 10x v_im) = %.4f chain\n",
+                  gm.name.c_str(), o.preload, w, chain, c_a, c_b, c_a / chain);
+      sweep.row(gm.name, o.preload, w, d0, chain, c_a, c_b, c_a / chain, gm.paper_c0);
+      f0s.push_back(o.preload);
+      c0s.push_back(c_a);
+      ratio.push_back(c_a / chain);
+    }
+    double f_at = NAN, r_at = NAN;
+    for (std::size_t k = 0; k + 1 < f0s.size(); ++k)
+      if ((c0s[k] - gm.paper_c0) * (c0s[k + 1] - gm.paper_c0) <= 0.0) {
+        const double u = std::log(gm.paper_c0 / c0s[k]) / std::log(c0s[k + 1] / c0s[k]);
+        f_at = f0s[k] * std::pow(f0s[k + 1] / f0s[k], u);
+        r_at = ratio[k] + u * (ratio[k + 1] - ratio[k]);
+        break;
+      }
+    std::printf("  %s: table 1's c_0 = %g m/s is measured at F0 = %.4g N = %.3g m g_Earth = %.3g m g_Moon "
+                "(chain formula: %.4g N)\n",
+                gm.name.c_str(), gm.paper_c0, f_at, f_at / weight, f_at / (hz.mass * kLunarGravity),
+                hz.force_for_sound_speed(gm.paper_c0));
+    at.row(gm.name, gm.paper_c0, hz.force_for_sound_speed(gm.paper_c0), f_at, f_at / weight,
+           f_at / (hz.mass * kLunarGravity), hz.overlap_pp(f_at), r_at);
+  }
+}
+
+int run_validation(const ValidationOptions& vo, const std::filesystem::path& results) {
+  std::filesystem::create_directories(results);
+  ResultFile speeds(results / "grid_speeds.csv",
+                    "material,load,gravity [m/s^2],preload [N],v_im [m/s],c_w [m/s],c_w_uncertainty [m/s],"
+                    "c_w_over_c_w_1,dt [s]");
+  ResultFile summary(results / "grid_summary.csv",
+                     "material,load,gravity [m/s^2],preload [N],fitted_contact_load_min [N],"
+                     "fitted_contact_load_max [N],c0_chain [m/s],c0_measured [m/s],plateau_spread,c0_paper [m/s],"
+                     "measured_over_paper,c_w_1 [m/s],shock_exponent,shock_exponent_uncertainty,shock_points");
+  for (const GridMaterial& gm : vo.materials) {
+    const ChainHertz hz(gm);
+    for (const GridCase& gc : vo.cases) {
+      GridOptions o;
+      o.material = gm;
+      o.load = gc.load;
+      o.gravity = gc.load == GridLoad::Gravity ? gc.gravity : 0.0;
+      o.preload = gc.load == GridLoad::Uniform ? (gc.preload_paper ? hz.force_for_sound_speed(gm.paper_c0) : gc.preload)
+                                               : 0.0;
+      o.restitution = vo.restitution;
+      o.length = vo.length;
+      o.dt = vo.dt;
+      // Static loads of the contacts the fitted wave crosses (between fitted particles).
+      const std::vector<double> f = static_contact_forces(o);
+      double f_lo = 1e300, f_hi = 0.0;
+      for (int k = o.first_fitted; k < o.length - 1 - (o.skip_last ? 1 : 0); ++k) {
+        f_lo = std::min(f_lo, f[static_cast<std::size_t>(k)]);
+        f_hi = std::max(f_hi, f[static_cast<std::size_t>(k)]);
+      }
+      const double c_chain = chain_prediction(o);
+      std::printf("%s, %s: R = %.2f mm, m = %.4g kg; fitted contacts carry %.4g-%.4g N (%.3g-%.3g m g_Earth); "
+                  "chain formula c_0 = %.5g m/s\n",
+                  gm.name.c_str(), gc.label().c_str(), gm.radius * 1e3, hz.mass, f_lo, f_hi,
+                  f_lo / (hz.mass * kEarthGravity), f_hi / (hz.mass * kEarthGravity), c_chain);
+      std::vector<GridResult> rs;
+      double c_ref = NAN;
+      for (double v : vo.velocities) {
+        rs.push_back(run_grid(o, v));
+        if (std::abs(v - 1.0) < 1e-12) c_ref = rs.back().c_w;
+      }
+      std::vector<double> plateau, vs, cs;
+      for (const auto& r : rs) {
+        std::printf("  v_im = %9.3g m/s  c_w = %10.5g +- %8.3g m/s  (dt %.3g s, %llu steps)\n", r.v_im, r.c_w,
+                    r.c_w_uncertainty, r.dt, static_cast<unsigned long long>(r.steps));
+        speeds.row(gm.name, grid_load_name(o.load), o.gravity, o.preload, r.v_im, r.c_w, r.c_w_uncertainty,
+                   r.c_w / c_ref, r.dt);
+        if (r.v_im <= vo.plateau_max * (1 + 1e-9) && std::isfinite(r.c_w)) plateau.push_back(r.c_w);
+        if (r.v_im >= vo.shock_min * (1 - 1e-9) && std::isfinite(r.c_w)) {
+          vs.push_back(r.v_im);
+          cs.push_back(r.c_w);
+        }
+      }
+      const auto [c0, spread] = plateau_of(plateau);
+      PowerLaw pl{NAN, NAN, NAN};
+      if (vs.size() >= 2) pl = fit_power_law(vs, cs);
+      std::printf("  plateau (v_im <= %g m/s): c_0 = %.5g m/s (spread %.2g %%), chain formula %.5g m/s, table 1 %.5g "
+                  "m/s: measured / table 1 = %.3f\n",
+                  vo.plateau_max, c0, 100 * spread, c_chain, gm.paper_c0, c0 / gm.paper_c0);
+      if (vs.size() >= 2)
+        std::printf("  shock branch (v_im >= %g m/s, %zu speeds): c_w ~ v_im^%.4f +- %.4f (expected 1/5)\n",
+                    vo.shock_min, vs.size(), pl.exponent, pl.exponent_uncertainty);
+      else
+        std::printf("  shock branch: %zu impact speed(s) at v_im >= %g m/s, an exponent needs two (--velocities, "
+                    "--shock-min)\n", vs.size(), vo.shock_min);
+      summary.row(gm.name, grid_load_name(o.load), o.gravity, o.preload, f_lo, f_hi, c_chain, c0, spread, gm.paper_c0,
+                  c0 / gm.paper_c0, c_ref, pl.exponent, pl.exponent_uncertainty, vs.size());
+    }
+  }
+  if (vo.sweep) {
+    std::printf("plateau against a uniform pre-load (no gravity):\n");
+    run_preload_sweep(vo, results);
+  }
+  std::printf("results in %s\n", results.string().c_str());
+  return 0;
 }
 
 int run_channel(ChannelOptions o, const std::vector<double>& vps, const std::filesystem::path& out) {
@@ -250,11 +374,13 @@ int main(int argc, char** argv) {
   std::filesystem::path out = "out/lunar_shock_channel";
   int threads = 2;
   // validation
-  std::string material = "both";
-  std::vector<double> velocities = {1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 3e-2, 0.1, 0.3, 1, 3, 10};
-  double preload = 0.0, restitution = 1.0, dt = 0.0, plateau_max = 1e-4, shock_min = 1.0;
-  bool preload_paper = true;
-  int length = 6;
+  std::string material = "both", load = "gravity";
+  std::filesystem::path results;
+  ValidationOptions vo;
+  vo.velocities = {1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 3e-2, 0.1, 0.3, 1, 3, 10};
+  vo.sweep_weights = {1e-2, 3.16e-2, 0.1, 0.316, 1, 3.16, 10, 31.6, 100};
+  std::vector<double> gravities = {kEarthGravity, kLunarGravity};
+  std::string preload_arg;
   // channel
   ChannelOptions co;
   bool paper = false;
@@ -274,16 +400,20 @@ int main(int argc, char** argv) {
       } else if (arg == "--out") out = next();
       else if (arg == "--threads") threads = std::stoi(next());
       else if (arg == "--material") material = next();
-      else if (arg == "--velocities") velocities = parse_list(next());
-      else if (arg == "--preload") {
-        const std::string v = next();
-        preload_paper = v == "paper";
-        if (!preload_paper) preload = std::stod(v);
-      } else if (arg == "--restitution") restitution = std::stod(next());
-      else if (arg == "--length" && mode == "validation") length = std::stoi(next());
-      else if (arg == "--dt") dt = std::stod(next());
-      else if (arg == "--plateau-max") plateau_max = std::stod(next());
-      else if (arg == "--shock-min") shock_min = std::stod(next());
+      else if (arg == "--velocities") vo.velocities = parse_list(next());
+      else if (arg == "--load") load = next();
+      else if (arg == "--gravity") {
+        gravities.clear();
+        for (double g : parse_list(next())) gravities.push_back(g);
+      } else if (arg == "--preload") preload_arg = next();
+      else if (arg == "--no-sweep") vo.sweep = false;
+      else if (arg == "--sweep") vo.sweep_weights = parse_list(next());
+      else if (arg == "--results") results = next();
+      else if (arg == "--restitution") vo.restitution = std::stod(next());
+      else if (arg == "--length" && mode == "validation") vo.length = std::stoi(next());
+      else if (arg == "--dt") vo.dt = std::stod(next());
+      else if (arg == "--plateau-max") vo.plateau_max = std::stod(next());
+      else if (arg == "--shock-min") vo.shock_min = std::stod(next());
       else if (arg == "--paper") paper = true;
       else if (arg == "--bender") co.bender = true;
       else if (arg == "--quiet") co.progress = false;
@@ -307,12 +437,22 @@ int main(int argc, char** argv) {
 #endif
     std::filesystem::create_directories(out);
     if (mode == "validation") {
-      std::vector<GridMaterial> mats;
-      if (material == "steel" || material == "both") mats.push_back(steel());
-      if (material == "soft" || material == "both") mats.push_back(soft());
-      if (mats.empty()) throw InvalidParameter("--material must be steel, soft or both, not '" + material + "'");
-      return run_validation(mats, velocities, preload, preload_paper, restitution, length, dt, plateau_max, shock_min,
-                            out);
+      if (material == "steel" || material == "both") vo.materials.push_back(steel());
+      if (material == "soft" || material == "both") vo.materials.push_back(soft());
+      if (vo.materials.empty()) throw InvalidParameter("--material must be steel, soft or both, not '" + material + "'");
+      if (load == "gravity") {
+        if (!preload_arg.empty()) throw InvalidParameter("--preload needs --load uniform");
+        for (double g : gravities) {
+          if (!(g > 0.0)) throw InvalidParameter("--gravity must be > 0 m/s^2, not " + std::to_string(g));
+          vo.cases.push_back({GridLoad::Gravity, g, 0.0, false});
+        }
+      } else if (load == "uniform") {
+        GridCase c{GridLoad::Uniform, 0.0, 0.0, preload_arg.empty() || preload_arg == "paper"};
+        if (!c.preload_paper) c.preload = std::stod(preload_arg);
+        if (!(c.preload >= 0.0)) throw InvalidParameter("--preload must be >= 0 N, not " + preload_arg);
+        vo.cases.push_back(c);
+      } else throw InvalidParameter("--load must be gravity or uniform, not '" + load + "'");
+      return run_validation(vo, results.empty() ? out : results);
     }
     if (paper) {
       const bool bender = co.bender, progress = co.progress;

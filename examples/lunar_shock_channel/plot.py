@@ -4,8 +4,11 @@
 usage: plot.py [OUT_DIR]   (default out/lunar_shock_channel)
 
 Reads the CSV files written by `lunar_shock_channel validation` and `... channel` (whichever
-exist) and writes PNG files next to them:
-  validation.png        c_w / c_w(1 m/s) vs v_im, log-log, per material (001 fig. 1)
+exist; the grid validation's from OUT_DIR, else the committed results/validation) and writes PNG
+files to OUT_DIR:
+  validation.png        c_w / c_w(1 m/s) vs v_im, log-log, per material and load (001 fig. 1)
+  grid_preload.png      grid plateau / table 1's c_0 against the static contact load, with the
+                        loads of the grid standing under Earth and lunar gravity
   channel_speeds_*.png  depth-averaged c_w and c_p vs v_p (001 fig. 9)
   channel_dz_*.png      bed-height change and delta_m/delta_0 vs y (001 figs. 15, 16)
   channel_arrivals_*.png  sensor position vs arrival time at mid depth (001 fig. 6)
@@ -38,33 +41,85 @@ def finite(*arrays):
     return [[a[k] for k in range(len(a)) if keep[k]] for a in arrays]
 
 
-def plot_validation(out):
-    path = os.path.join(out, "validation.csv")
+def read_text(path):
+    """Rows of a CSV file (a first "# ..." provenance line skipped) as dicts keyed by the column
+    name without its unit; numbers as float, the rest as text."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(l for l in f if not l.startswith("#")))
+    names = [h.split(" [")[0] for h in rows[0]]
+    out = []
+    for r in rows[1:]:
+        d = {}
+        for n, v in zip(names, r):
+            try:
+                d[n] = float(v)
+            except ValueError:
+                d[n] = v
+        out.append(d)
+    return out
+
+
+def load_name(r):
+    if r["load"] == "gravity":
+        return "g = %g m/s$^2$" % r["gravity"]
+    return "F0 = %.3g N" % r["preload"]
+
+
+def plot_validation(res, out):
+    """c_w / c_w(1 m/s) against v_im for every material and load (001 fig. 1)."""
+    path = os.path.join(res, "grid_speeds.csv")
     if not os.path.exists(path):
         return
-    d = read(path)
-    names = {0: "first material", 1: "second material"}
-    summ = os.path.join(out, "validation_summary.csv")
-    labels = {}
-    if os.path.exists(summ):
-        s = read(summ)
-        for m, c0p in zip(s["material"], s["c0_paper"]):
-            labels[int(m)] = "steel" if c0p > 100 else "soft"
-    fig, ax = plt.subplots(figsize=(5.5, 4))
-    for m in sorted(set(int(x) for x in d["material"])):
-        idx = [k for k, x in enumerate(d["material"]) if int(x) == m]
-        v = [d["v_im"][k] for k in idx]
-        c = [d["c_w_over_c_w_1"][k] for k in idx]
-        v, c = finite(v, c)
-        ax.loglog(v, c, "o-", label=labels.get(m, names.get(m, str(m))))
+    rows = read_text(path)
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    for key in dict.fromkeys((r["material"], load_name(r)) for r in rows):
+        sel = [r for r in rows if (r["material"], load_name(r)) == key]
+        v, c = finite([r["v_im"] for r in sel], [r["c_w_over_c_w_1"] for r in sel])
+        ax.loglog(v, c, "o-" if key[0] == "steel" else "s--", ms=3, label="%s, %s" % key)
     vv = [1e-1, 10]
-    ax.loglog(vv, [x ** 0.2 for x in vv], "k--", label=r"$v^{1/5}$")
+    ax.loglog(vv, [x ** 0.2 for x in vv], "k:", label=r"$v^{1/5}$")
     ax.set_xlabel(r"$v_{im}$ [m/s]")
     ax.set_ylabel(r"$c_w / c_w(1\,\mathrm{m/s})$")
-    ax.legend()
-    ax.set_title("5x5 grid: acoustic plateau and shock branch")
+    ax.legend(fontsize=7)
+    ax.set_title("5 x 5 grid: acoustic plateau and shock branch")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "validation.png"), dpi=130)
+    plt.close(fig)
+
+
+def plot_grid_preload(res, out):
+    """Measured plateau against the static contact load, in particle weights under Earth gravity,
+    with table 1's c_0 and the loads of the grid standing under Earth and lunar gravity."""
+    path = os.path.join(res, "grid_preload_sweep.csv")
+    if not os.path.exists(path):
+        return
+    rows = read_text(path)
+    summ = os.path.join(res, "grid_summary.csv")
+    grav = [r for r in read_text(summ) if r["load"] == "gravity"] if os.path.exists(summ) else []
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    for k, mat in enumerate(dict.fromkeys(r["material"] for r in rows)):
+        sel = [r for r in rows if r["material"] == mat]
+        col = "C%d" % k
+        w = [r["preload_over_weight_earth"] for r in sel]
+        ax.loglog(w, [r["c0_measured"] / r["c0_paper"] for r in sel], "o-", color=col, ms=3,
+                  label="%s: measured plateau" % mat)
+        ax.loglog(w, [r["c0_chain"] / r["c0_paper"] for r in sel], ":", color=col, label="%s: chain formula" % mat)
+        for r in grav:
+            if r["material"] != mat:
+                continue
+            wt = sel[0]["preload"] / sel[0]["preload_over_weight_earth"]  # m g_Earth [N]
+            lo, hi = r["fitted_contact_load_min"] / wt, r["fitted_contact_load_max"] / wt
+            ax.axvspan(lo, hi, color=col, alpha=0.15)
+            ax.plot([math.sqrt(lo * hi)], [r["measured_over_paper"]], "*", color=col, ms=10)
+            ax.annotate("g = %g" % r["gravity"], (math.sqrt(lo * hi), r["measured_over_paper"]), fontsize=7,
+                        xytext=(4, -10), textcoords="offset points", color=col)
+    ax.axhline(1.0, color="k", lw=0.8)
+    ax.set_xlabel(r"static contact load $F_0$ / particle weight $m g_\mathrm{Earth}$")
+    ax.set_ylabel(r"plateau $c_0$ / table 1's $c_0$")
+    ax.set_title("5 x 5 grid: plateau against the pre-load (stars: grid standing under g)", fontsize=9)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "grid_preload.png"), dpi=130)
     plt.close(fig)
 
 
@@ -123,7 +178,13 @@ def plot_channel(out, tag):
 
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "out/lunar_shock_channel"
-    plot_validation(out)
+    # The grid validation's CSV files: in OUT_DIR when it was run without --results, else the
+    # committed ones.
+    res = out if os.path.exists(os.path.join(out, "grid_speeds.csv")) else os.path.join(
+        os.path.dirname(os.path.abspath(__file__)), "results", "validation")
+    os.makedirs(out, exist_ok=True)
+    plot_validation(res, out)
+    plot_grid_preload(res, out)
     for tag in ("p", "s"):
         plot_channel(out, tag)
     print("figures written to", out)
