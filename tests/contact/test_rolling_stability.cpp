@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -77,7 +78,13 @@ std::pair<double, double> spin_history(Sim& sim, int axis, double w0, int steps)
   }
   double peak = 0.0, last = 0.0;
   for (int s = 0; s < steps; ++s) {
-    sim.step();
+    try {
+      sim.step();
+    } catch (const granule::InstabilityError&) {
+      // The engine stopped the run as unstable (the particle was thrown out of the domain):
+      // the spin grew without bound.
+      return {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+    }
     if constexpr (D::dim == 3) {
       last = std::abs(p.omega[0][axis]);
     } else {
