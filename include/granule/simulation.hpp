@@ -490,9 +490,9 @@ class Simulation {
         for (std::uint32_t b = 0; b < materials_.size(); ++b) {
           const PairMaterial& pm = materials_.pair(particles_.material[i], b);
           if (pm.k_n_linear <= 0.0) continue;
-          // Two equal particles: m* = m/2; a wall: m* = m. The first is the stricter.
-          tc = std::min(tc, linear_critical_time(pm.k_n_linear, 0.5 * particles_.mass[i], pm.restitution,
-                                                 kPredictDamping ? 2.0 : 1.0));
+          // Two equal particles: m* = m/2; a wall: m* = m (a rigid one has 2 k: the same period).
+          const double m_eff = (wall_material_[b] ? 1.0 : 0.5) * particles_.mass[i];
+          tc = std::min(tc, linear_critical_time(pm.k_n_linear, m_eff, pm.restitution, kPredictDamping ? 2.0 : 1.0));
         }
       }
     }
