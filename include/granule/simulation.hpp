@@ -144,12 +144,31 @@ class Simulation {
 
   /// Adds a particle material; returns its index.
   std::uint32_t add_material(const Material& m) { return add_material_impl(m, false); }
-  /// Adds a wall material (density may be zero); returns its index.
+  /// Adds a wall material (density may be zero; Material::rigid for a rigid wall); returns its
+  /// index.
   std::uint32_t add_wall_material(const Material& m) { return add_material_impl(m, true); }
 
-  /// Adds a particle and returns its stable id.
+  /// Sets pair properties of materials a and b explicitly (PairOverride: e, mu_s, mu_r, eta_r,
+  /// k_c, linear k_n and k_t/k_n), replacing the mixed values of docs/physics.md. a and b are
+  /// particle materials, or a particle and a wall material. Fields left empty keep their
+  /// value (the mix, or an earlier set_pair); materials added later do not undo it. The
+  /// contact parameters are precomputed per pair, so the pair loop does not change.
+  void set_pair(std::uint32_t a, std::uint32_t b, const PairOverride& o) {
+    const std::string where = "Simulation::set_pair";
+    const std::string range = "[0, " + std::to_string(materials_.size()) + ") (add_material first)";
+    require(a < materials_.size(), where, "a", a, range);
+    require(b < materials_.size(), where, "b", b, range);
+    require(!(wall_material_[a] && wall_material_[b]), where, "b", b,
+            "a particle material (a and b are both wall materials, which never touch)");
+    materials_.set_pair(a, b, o, where);
+    refresh_params();
+  }
+
+  /// Adds a particle and returns its stable id. `omega`: initial angular velocity [rad/s]
+  /// (2D: the scalar about z). Frozen and prescribed groups set v and omega themselves.
   std::uint64_t add_particle(const Vec& x, double radius, std::uint32_t material,
-                             const Vec& v = Vec::Zero(), std::uint32_t group = 0) {
+                             const Vec& v = Vec::Zero(), std::uint32_t group = 0,
+                             const AngVec& omega = D::zero_ang()) {
     const std::string where = "Simulation::add_particle";
     require(radius > 0.0 && std::isfinite(radius), where, "radius", radius, "(0, inf) m");
     require(material < materials_.size(), where, "material", material,
@@ -164,11 +183,16 @@ class Simulation {
                 "[" + detail::to_text(config_.domain.lo[k]) + ", " + detail::to_text(config_.domain.hi[k]) +
                     "] m (inside the non-periodic domain)");
     }
+    for (int k = 0; k < D::rot_dim; ++k) {
+      const double w = component(omega, k);
+      require(std::isfinite(w), where, "omega[" + std::to_string(k) + "]", w, "finite");
+    }
     list_.detach(particles_);  // the slots the rows name change here
     particles_.clear_ghosts();
     const double m = materials_[material].density * D::volume(radius, config_.thickness);
     const std::uint64_t id = next_id_++;
     const std::size_t slot = particles_.add(x, v, radius, m, material, group, id);
+    particles_.omega[slot] = omega;
     apply_group_motion(slot);
     list_valid_ = false;
     return id;
@@ -413,7 +437,15 @@ class Simulation {
   }
 
   /// Makes the next force evaluation record its contacts (frame() then includes them).
+  /// For every step, see record_contacts_every_step.
   void request_contacts() { record_next_ = true; }
+
+  /// A standing request: every force evaluation records its contacts while `on` (frame() and
+  /// recorded_contacts() then hold each step's contact forces without a request_contacts()
+  /// before every step). Recorded steps use the scalar pair loop, whose results agree with the
+  /// packed loop to rounding only (docs/architecture.md), and cost the records' copy.
+  void record_contacts_every_step(bool on = true) { record_always_ = on; }
+  bool records_contacts_every_step() const { return record_always_; }
 
   /// Translational + rotational kinetic energy of the real particles [J].
   double kinetic_energy() const {
@@ -458,9 +490,9 @@ class Simulation {
         for (std::uint32_t b = 0; b < materials_.size(); ++b) {
           const PairMaterial& pm = materials_.pair(particles_.material[i], b);
           if (pm.k_n_linear <= 0.0) continue;
-          // Two equal particles: m* = m/2; a wall: m* = m. The first is the stricter.
-          tc = std::min(tc, linear_critical_time(pm.k_n_linear, 0.5 * particles_.mass[i], pm.restitution,
-                                                 kPredictDamping ? 2.0 : 1.0));
+          // Two equal particles: m* = m/2; a wall: m* = m (a rigid one has 2 k: the same period).
+          const double m_eff = (wall_material_[b] ? 1.0 : 0.5) * particles_.mass[i];
+          tc = std::min(tc, linear_critical_time(pm.k_n_linear, m_eff, pm.restitution, kPredictDamping ? 2.0 : 1.0));
         }
       }
     }
@@ -540,8 +572,8 @@ class Simulation {
   }
 
   /// A self-contained snapshot for analysis and output (contacts only if they were recorded at
-  /// the current step: call request_contacts() before the step, or register the observer with
-  /// needs_contacts = true).
+  /// the current step: call request_contacts() before the step, record_contacts_every_step(),
+  /// or register the observer with needs_contacts = true).
   analysis::Frame<D> frame() const {
     analysis::Frame<D> fr;
     const std::size_t n = particles_.owned();
@@ -744,6 +776,14 @@ class Simulation {
       if (group_velocity_[g]) group_v_now_[g] = group_velocity_[g](t);
   }
 
+  static double component(const AngVec& w, int k) {
+    if constexpr (D::dim == 2) {
+      return w;
+    } else {
+      return w[k];
+    }
+  }
+
   static double ang_dot(const AngVec& a, const AngVec& b) {
     if constexpr (D::dim == 2) {
       return a * b;
@@ -853,7 +893,7 @@ class Simulation {
   }
 
   bool contacts_wanted(std::uint64_t step) const {
-    if (record_next_) return true;
+    if (record_next_ || record_always_) return true;
     for (const auto& o : observers_)
       if (o.needs_contacts && step % o.every == 0) return true;
     return false;
@@ -1686,6 +1726,7 @@ class Simulation {
   std::vector<analysis::ContactRecord<D>> records_;
   std::uint64_t records_step_ = std::numeric_limits<std::uint64_t>::max();
   bool record_next_ = false;
+  bool record_always_ = false;  ///< record_contacts_every_step
   std::size_t contacts_ = 0;
   double time_ = 0.0;
   std::uint64_t step_ = 0;

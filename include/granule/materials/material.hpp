@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "granule/core/error.hpp"
 
@@ -28,15 +29,32 @@ struct Material {
   /// EPSD rolling stiffness factor c in k_r = c k_n mu_r^2 R*^2 [-]. Ai et al. (2011) eq. 13
   /// give 2.25; paper 001 eq. A14 prints 2.55 (see docs/physics.md).
   double rolling_stiffness_factor = 2.25;
+  /// Walls only: an infinitely stiff material. It adds nothing to 1/E* and 1/G* (its E and nu
+  /// are not used), and a pair with it takes the particle's e, mu_s, mu_r, eta_r, k_c and
+  /// linear stiffness instead of their means (pair_material.hpp); set_pair can override them.
+  /// The limit of a wall of E -> inf, without the 1e6 E stand-in.
+  bool rigid = false;
+
+  /// A rigid wall material with the given name (its contact parameters come from the particles).
+  static Material rigid_wall(std::string wall_name = "rigid wall") {
+    Material m;
+    m.name = std::move(wall_name);
+    m.rigid = true;
+    return m;
+  }
 
   /// Throws InvalidParameter naming the field, value and valid range.
   /// `is_wall` relaxes the density requirement (walls have no mass).
   void validate(bool is_wall = false) const {
     const std::string where = "Material '" + name + "'";
-    require(youngs_modulus > 0.0 && std::isfinite(youngs_modulus), where, "youngs_modulus",
-            youngs_modulus, "(0, inf) Pa");
-    require(poisson_ratio >= 0.0 && poisson_ratio < 0.5, where, "poisson_ratio", poisson_ratio,
-            "[0, 0.5)");
+    require(is_wall || !rigid, where, "rigid", 1.0,
+            "{0} for a particle material (rigid = 1 is for wall materials: add_wall_material)");
+    if (!rigid) {
+      require(youngs_modulus > 0.0 && std::isfinite(youngs_modulus), where, "youngs_modulus",
+              youngs_modulus, "(0, inf) Pa");
+      require(poisson_ratio >= 0.0 && poisson_ratio < 0.5, where, "poisson_ratio", poisson_ratio,
+              "[0, 0.5)");
+    }
     if (!is_wall) {
       require(density > 0.0 && std::isfinite(density), where, "density", density, "(0, inf) kg/m^3");
     } else {

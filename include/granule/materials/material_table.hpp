@@ -25,6 +25,18 @@ class MaterialTable {
     return static_cast<std::uint32_t>(n - 1);
   }
 
+  /// Replaces the fields that `o` sets in the pair properties of materials a and b (both
+  /// orders), on top of the mix and of earlier overrides. Later add() calls keep them (they
+  /// only mix the pairs of the new material).
+  void set_pair(std::uint32_t a, std::uint32_t b, const PairOverride& o,
+                const std::string& where = "MaterialTable::set_pair") {
+    check_index(a, "a");
+    check_index(b, "b");
+    o.validate(where);
+    const std::size_t n = materials_.size();
+    pairs_[a * n + b] = pairs_[b * n + a] = o.apply(pairs_[a * n + b]);
+  }
+
   /// Overrides the pair properties of materials a and b (both orders).
   void set_pair(std::uint32_t a, std::uint32_t b, const PairMaterial& p) {
     check_index(a, "a");

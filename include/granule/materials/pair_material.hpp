@@ -7,11 +7,16 @@
 // Di Maio 2004). Paper 001 eq. A3 prints (2 + nu)(1 - nu), a typo: for nu = 0.2 it differs by
 // 20 %; we use the Mindlin form, as LIGGGHTS does.
 // Restitution, friction and rolling parameters of unlike materials default to the arithmetic
-// mean and can be overridden per pair (MaterialTable::set_pair), as LIGGGHTS' per-pair matrices.
+// mean and can be overridden per pair (PairOverride, MaterialTable::set_pair,
+// Simulation::set_pair), as LIGGGHTS' per-type-pair matrices and LAMMPS' pair coefficients.
+// A rigid wall material (Material::rigid) adds no compliance and hands the pair the particle's
+// parameters: the limit E_wall -> inf, with e, mu, mu_r not averaged with the wall's.
 #include <cmath>
 #include <algorithm>
 #include <limits>
 #include <numbers>
+#include <optional>
+#include <string>
 
 #include "granule/materials/material.hpp"
 
@@ -38,11 +43,30 @@ struct PairMaterial {
 
 /// Mixes two materials into effective pair properties.
 inline PairMaterial mix(const Material& a, const Material& b) {
+  // A rigid material's terms are zero (two rigid ones, a wall-wall pair that never touches: inf).
+  const auto normal = [](const Material& m) {
+    return m.rigid ? 0.0 : (1.0 - m.poisson_ratio * m.poisson_ratio) / m.youngs_modulus;
+  };
+  const auto shear = [](const Material& m) {
+    return m.rigid ? 0.0 : 2.0 * (2.0 - m.poisson_ratio) * (1.0 + m.poisson_ratio) / m.youngs_modulus;
+  };
   PairMaterial p;
-  p.E_eff = 1.0 / ((1.0 - a.poisson_ratio * a.poisson_ratio) / a.youngs_modulus +
-                   (1.0 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus);
-  p.G_eff = 1.0 / (2.0 * (2.0 - a.poisson_ratio) * (1.0 + a.poisson_ratio) / a.youngs_modulus +
-                   2.0 * (2.0 - b.poisson_ratio) * (1.0 + b.poisson_ratio) / b.youngs_modulus);
+  p.E_eff = 1.0 / (normal(a) + normal(b));
+  p.G_eff = 1.0 / (shear(a) + shear(b));
+  if (a.rigid != b.rigid) {
+    // Against a rigid wall the particle's own parameters; its linear half-contact (2 k, see
+    // below) in series with an infinitely stiff one: k = 2 k_particle, the limit k_b -> inf.
+    const Material& s = a.rigid ? b : a;
+    p.restitution = s.restitution;
+    p.mu_s = s.friction;
+    p.mu_r = s.rolling_friction;
+    p.rolling_damping = s.rolling_damping;
+    p.k_c = s.cohesion_energy_density;
+    p.k_n_linear = 2.0 * s.linear_normal_stiffness();
+    p.kt_ratio = s.tangential_stiffness_ratio;
+    p.rolling_stiffness_factor = s.rolling_stiffness_factor;
+    return p;
+  }
   p.restitution = 0.5 * (a.restitution + b.restitution);
   p.mu_s = 0.5 * (a.friction + b.friction);
   p.mu_r = 0.5 * (a.rolling_friction + b.rolling_friction);
@@ -56,5 +80,45 @@ inline PairMaterial mix(const Material& a, const Material& b) {
   p.rolling_stiffness_factor = 0.5 * (a.rolling_stiffness_factor + b.rolling_stiffness_factor);
   return p;
 }
+
+/// Explicit values for one material pair (particle-particle or particle-wall) that replace
+/// the mixed ones, as a LIGGGHTS per-type-pair matrix entry or a LAMMPS pair coefficient.
+/// Fields left empty keep the pair's current value. Names follow Material's.
+struct PairOverride {
+  std::optional<double> restitution;              ///< e [-], (0, 1]
+  std::optional<double> friction;                 ///< mu_s [-], [0, inf)
+  std::optional<double> rolling_friction;         ///< mu_r [-], [0, inf)
+  std::optional<double> rolling_damping;          ///< eta_r [-], [0, inf)
+  std::optional<double> cohesion_energy_density;  ///< k_c [J/m^3], [0, inf)
+  std::optional<double> linear_normal_stiffness;  ///< k_n of the linear laws [N/m], (0, inf)
+  std::optional<double> tangential_stiffness_ratio;  ///< k_t / k_n of the linear laws [-], (0, inf)
+
+  /// Throws InvalidParameter naming the field, value and valid range.
+  void validate(const std::string& where) const {
+    const auto check = [&](const std::optional<double>& v, const char* name, bool zero_ok, const char* range) {
+      if (v) require((zero_ok ? *v >= 0.0 : *v > 0.0) && std::isfinite(*v), where, name, *v, range);
+    };
+    if (restitution)
+      require(*restitution > 0.0 && *restitution <= 1.0, where, "restitution", *restitution, "(0, 1]");
+    check(friction, "friction", true, "[0, inf)");
+    check(rolling_friction, "rolling_friction", true, "[0, inf)");
+    check(rolling_damping, "rolling_damping", true, "[0, inf)");
+    check(cohesion_energy_density, "cohesion_energy_density", true, "[0, inf) J/m^3");
+    check(linear_normal_stiffness, "linear_normal_stiffness", false, "(0, inf) N/m");
+    check(tangential_stiffness_ratio, "tangential_stiffness_ratio", false, "(0, inf)");
+  }
+
+  /// `p` with the fields that are set replaced.
+  PairMaterial apply(PairMaterial p) const {
+    p.restitution = restitution.value_or(p.restitution);
+    p.mu_s = friction.value_or(p.mu_s);
+    p.mu_r = rolling_friction.value_or(p.mu_r);
+    p.rolling_damping = rolling_damping.value_or(p.rolling_damping);
+    p.k_c = cohesion_energy_density.value_or(p.k_c);
+    p.k_n_linear = linear_normal_stiffness.value_or(p.k_n_linear);
+    p.kt_ratio = tangential_stiffness_ratio.value_or(p.kt_ratio);
+    return p;
+  }
+};
 
 }  // namespace granule
