@@ -11,6 +11,7 @@
 #include "granule/boundaries/geometry/box_container.hpp"
 #include "granule/boundaries/geometry/capsule.hpp"
 #include "granule/boundaries/geometry/cylinder.hpp"
+#include "granule/boundaries/geometry/cylinder_container.hpp"
 #include "granule/boundaries/geometry/plane.hpp"
 #include "granule/boundaries/geometry/prism.hpp"
 #include "granule/boundaries/geometry/sphero_line.hpp"
@@ -26,7 +27,8 @@ template <>
 struct WallShapes<Dim2> {
   using type = std::variant<geometry::PlaneShape<Dim2>, geometry::BoxContainerShape<Dim2>,
                             geometry::BoxShape<Dim2>, geometry::CapsuleShape<Dim2>,
-                            geometry::PrismShape<Dim2>, geometry::SpheroLineShape>;
+                            geometry::PrismShape<Dim2>, geometry::SpheroLineShape,
+                            geometry::CircleContainerShape>;
 };
 
 template <>
@@ -34,7 +36,7 @@ struct WallShapes<Dim3> {
   using type = std::variant<geometry::PlaneShape<Dim3>, geometry::BoxContainerShape<Dim3>,
                             geometry::BoxShape<Dim3>, geometry::CapsuleShape<Dim3>,
                             geometry::PrismShape<Dim3>, geometry::CylinderShape,
-                            geometry::TriangleMeshShape>;
+                            geometry::TriangleMeshShape, geometry::CylinderContainerShape>;
 };
 
 template <class D>
