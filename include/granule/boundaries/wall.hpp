@@ -45,6 +45,10 @@ struct Wall {
   typename WallShapes<D>::type shape;
   std::uint32_t material = 0;
   std::uint32_t body = 0;
+  /// An inactive wall has no contacts (Simulation::set_wall_active: a gate that opens).
+  bool active = true;
+  Vec force = Vec::Zero();                ///< force of the particles on this wall, last step [N]
+  typename D::AngVec torque = D::zero_ang();  ///< their torque about the body's pose origin [N m]
 
   /// Calls f(SurfacePoint<D>) in world coordinates for every feature within r_cut of x.
   template <class F>

@@ -26,7 +26,8 @@ namespace granule::io {
 inline constexpr char kCheckpointMagic[12] = {'G', 'R', 'A', 'N', 'U', 'L', 'E', '\x01', 'C', 'K', 'P', 'T'};
 // 2: the neighbour list keeps history for touching pairs only (slots and per-layer pools).
 // 3: the build positions are floats, followed by their rounding (neighbours/pair_list.hpp).
-inline constexpr std::uint32_t kCheckpointVersion = 3;
+// 4: per wall, whether it is active and the force and torque of the particles on it.
+inline constexpr std::uint32_t kCheckpointVersion = 4;
 
 namespace detail {
 inline std::uint64_t fnv1a(const std::uint8_t* p, std::size_t n) {
