@@ -3,7 +3,7 @@
 //    The wall pass treats each surface point as a flat wall (R* = r): a sphere resting on the
 //    concave side carries its weight with the flat-wall Hertz overlap (Johnson 1985, eq. 4.23),
 //    delta = (3 F / (4 E* sqrt(r)))^(2/3), not the concave one (principal radii r and
-//    r Rc / (Rc - r), R* = sqrt(r^2 Rc / (Rc - r)): 1.8 % less overlap at Rc = 5 r).
+//    r Rc / (Rc - r), R* = sqrt(r^2 Rc / (Rc - r)): about 3.8 % less overlap at Rc = 5 r).
 //  - Simulation::set_wall_active: a gate that opens; the particles then fall freely.
 //  - Wall::force / torque: the force of the particles on each wall, beside Body::force.
 //  - Checkpoints keep the switch: a restart across the opening is bitwise.
@@ -99,7 +99,7 @@ TEST_CASE("CylinderContainerShape: side, rim beyond an open end, caps of a close
 // A sphere (disk) resting at the bottom of a horizontal cylinder (circle) under gravity -y.
 // Reference: the wall carries exactly the weight m g, and the overlap is the flat-wall Hertz
 // overlap delta = (3 m g / (4 E* sqrt(r)))^(2/3) (the wall pass uses R* = r). The tolerance
-// 1e-9 is far below the 1.8 % a concave R* would make.
+// 1e-9 is far below the 3.8 % a concave R* would make.
 TEMPLATE_TEST_CASE("A particle at rest inside a cylinder loads its side with its weight (flat-wall Hertz)",
                    "[engine][statics][cylinder]", Dim2, Dim3) {
   using D = TestType;
