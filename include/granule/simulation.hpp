@@ -630,9 +630,11 @@ class Simulation {
     w.vec(group_motion_);
   }
 
-  /// Restores what save_state wrote into a simulation set up with the same scene.
+  /// Restores what save_state wrote into a simulation set up with the same scene. Without
+  /// `wall_states` (checkpoint format 3, from before walls could be switched off) every wall is
+  /// active and the wall readouts are zero until the next step.
   template <class R>
-  void load_state(R& r) {
+  void load_state(R& r, bool wall_states = true) {
     auto& p = particles_;
     time_ = r.template pod<double>();
     step_ = r.template pod<std::uint64_t>();
@@ -670,9 +672,9 @@ class Simulation {
     // (The list read above lists the walls active when it was written; the scene's switches
     // follow the checkpoint.)
     for (auto& wl : walls_) {
-      wl.active = r.template pod<std::uint8_t>() != 0;
-      wl.force = r.template pod<Vec>();
-      wl.torque = r.template pod<AngVec>();
+      wl.active = !wall_states || r.template pod<std::uint8_t>() != 0;
+      wl.force = wall_states ? r.template pod<Vec>() : Vec::Zero();
+      wl.torque = wall_states ? r.template pod<AngVec>() : D::zero_ang();
     }
     std::vector<Motion> modes;
     r.vec(modes);
