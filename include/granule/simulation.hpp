@@ -218,6 +218,20 @@ class Simulation {
     return static_cast<std::uint32_t>(walls_.size() - 1);
   }
 
+  /// Switches wall `w` on or off from the next step on (a gate that opens, a lid put on). The
+  /// switch rebuilds the neighbour list, which lists active walls only: the wall pass has no
+  /// test to pay, an inactive wall's contacts and their history are dropped, and a wall switched
+  /// on again starts with fresh contacts. The forces of the step just done (with the wall) still
+  /// give the next step's first half kick, as for any change between steps. Checkpoints keep the
+  /// switch.
+  void set_wall_active(std::uint32_t w, bool active) {
+    require(w < walls_.size(), "Simulation::set_wall_active", "wall", w,
+            "[0, " + std::to_string(walls_.size()) + ")");
+    if (walls_[w].active == active) return;  // no rebuild: the run stays as it was
+    walls_[w].active = active;
+    list_valid_ = false;
+  }
+
   /// Particles of `group` never move (e.g. the rough frozen floor of paper 001).
   void freeze_group(std::uint32_t group) {
     list_valid_ = false;  // which pairs exist depends on the motion modes
@@ -414,6 +428,14 @@ class Simulation {
   const Body<D>& body(std::uint32_t b) const { return bodies_.at(b); }
   std::size_t body_count() const { return bodies_.size(); }
   const std::vector<Wall<D>>& walls() const { return walls_; }
+  /// Wall w: its shape, body, whether it is active, and the force and torque (about the body's
+  /// pose origin) of the particles on it at the last force evaluation.
+  const Wall<D>& wall(std::uint32_t w) const { return walls_.at(w); }
+  /// The torque of the particles on wall w about the point q [N m]: T_q = T_o + (o - q) x F.
+  AngVec wall_torque_about(std::uint32_t w, const Vec& q) const {
+    const Wall<D>& wl = walls_.at(w);
+    return wl.torque + D::cross(Vec(bodies_[wl.body].pose.translation() - q), wl.force);
+  }
   /// The list of the last build; its rows are empty from adding or removing particles until
   /// the next step (PairList::detach).
   const List& neighbour_list() const { return list_; }
@@ -632,12 +654,19 @@ class Simulation {
     }
     w.template pod<std::uint64_t>(materials_.size());
     w.template pod<std::uint64_t>(walls_.size());
+    for (const auto& wl : walls_) {
+      w.template pod<std::uint8_t>(wl.active ? 1 : 0);
+      w.template pod<Vec>(wl.force);
+      w.template pod<AngVec>(wl.torque);
+    }
     w.vec(group_motion_);
   }
 
-  /// Restores what save_state wrote into a simulation set up with the same scene.
+  /// Restores what save_state wrote into a simulation set up with the same scene. Without
+  /// `wall_states` (checkpoint format 3, from before walls could be switched off) every wall is
+  /// active and the wall readouts are zero until the next step.
   template <class R>
-  void load_state(R& r) {
+  void load_state(R& r, bool wall_states = true) {
     auto& p = particles_;
     time_ = r.template pod<double>();
     step_ = r.template pod<std::uint64_t>();
@@ -672,6 +701,13 @@ class Simulation {
     if (nm != materials_.size() || nw != walls_.size())
       r.fail("it has " + std::to_string(nm) + " materials and " + std::to_string(nw) +
              " walls, the scene " + std::to_string(materials_.size()) + " and " + std::to_string(walls_.size()));
+    // (The list read above lists the walls active when it was written; the scene's switches
+    // follow the checkpoint.)
+    for (auto& wl : walls_) {
+      wl.active = !wall_states || r.template pod<std::uint8_t>() != 0;
+      wl.force = wall_states ? r.template pod<Vec>() : Vec::Zero();
+      wl.torque = wall_states ? r.template pod<AngVec>() : D::zero_ang();
+    }
     std::vector<Motion> modes;
     r.vec(modes);
     for (std::size_t g = 0; g < modes.size(); ++g) {
@@ -694,6 +730,7 @@ class Simulation {
         particles_, config_.domain, skin, [](State& s) { Model::reverse(s); },
         [&](std::size_t, const Vec& x, double reach, auto&& emit) {
           for (std::uint32_t w = 0; w < walls_.size(); ++w) {
+            if (!walls_[w].active) continue;
             walls_[w].for_each_contact(bodies_[walls_[w].body], x, reach,
                                        [&](const geometry::SurfacePoint<D>& sp) { emit(w, sp.feature); });
           }
@@ -726,6 +763,8 @@ class Simulation {
     std::size_t missing_wall_features = 0;
     std::vector<Vec> body_force;
     std::vector<AngVec> body_torque;
+    std::vector<Vec> wall_force;  // beside body_force: the same contacts, per wall
+    std::vector<AngVec> wall_torque;
     std::vector<analysis::ContactRecord<D>> records;
   };
 
@@ -1081,6 +1120,7 @@ class Simulation {
     const std::size_t n = p.owned();
     const std::size_t m = p.size();
     const std::size_t nb = bodies_.size();
+    const std::size_t nw = walls_.size();
     if constexpr (kPredictDamping) predict_damping_velocities();
     // After step()'s first pass only the ghosts are left: too few to pay for a barrier.
     const std::size_t reset_from = owned_reset ? n : 0;
@@ -1102,6 +1142,8 @@ class Simulation {
       a.missing_wall_features = 0;
       a.body_force.assign(nb, Vec::Zero());
       a.body_torque.assign(nb, D::zero_ang());
+      a.wall_force.assign(nw, Vec::Zero());
+      a.wall_torque.assign(nw, D::zero_ang());
       a.records.clear();
     }
     const bool parallel = Search::uses_cells;
@@ -1170,6 +1212,10 @@ class Simulation {
       b.force.setZero();
       b.torque = D::zero_ang();
     }
+    for (auto& w : walls_) {
+      w.force.setZero();
+      w.torque = D::zero_ang();
+    }
     std::size_t bad_layer = nl;
     for (std::size_t l = 0; l < nl; ++l) {
       const auto& a = layer_acc_[l];
@@ -1177,6 +1223,10 @@ class Simulation {
       for (std::size_t b = 0; b < nb; ++b) {
         bodies_[b].force += a.body_force[b];
         bodies_[b].torque += a.body_torque[b];
+      }
+      for (std::size_t w = 0; w < nw; ++w) {
+        walls_[w].force += a.wall_force[w];
+        walls_[w].torque += a.wall_torque[w];
       }
       if (a.bad_row != std::numeric_limits<std::size_t>::max() && bad_layer == nl) bad_layer = l;
     }
@@ -1386,7 +1436,10 @@ class Simulation {
       ti += cf.torque_i;
       acc.body_force[w.body] -= cf.force;
       const Vec arm = sp.point - bodies_[w.body].pose.translation();
-      acc.body_torque[w.body] -= D::cross(arm, cf.force);
+      const AngVec t = D::cross(arm, cf.force);
+      acc.body_torque[w.body] -= t;
+      acc.wall_force[wall] -= cf.force;
+      acc.wall_torque[wall] -= t;
       ++acc.contacts;
       if constexpr (Record) {
         const auto& p = particles_;
@@ -1411,7 +1464,7 @@ class Simulation {
     contact::GeometryLanes lanes;
     State* state[lane_width];
     State scratch[lane_width];  ///< histories of contacts without a slot (dropped after the law)
-    std::uint32_t i[lane_width], body[lane_width];
+    std::uint32_t i[lane_width], wall[lane_width];
     Vec arm[lane_width];  ///< contact point - body origin
     std::size_t count = 0;
     std::size_t params = 0;
@@ -1435,7 +1488,7 @@ class Simulation {
       }
       q.state[l] = state;
       q.i[l] = row;
-      q.body[l] = body;
+      q.wall[l] = wall;
       q.arm[l] = sp.point - bodies_[body].pose.translation();
       if (q.count == lane_width) flush_wall_queue(q, acc);
     };
@@ -1472,8 +1525,12 @@ class Simulation {
         const Vec f(out[0][l], out[1][l], out[2][l]);
         p.f[q.i[l]] += f;
         p.torque[q.i[l]] += AngVec(out[3][l], out[4][l], out[5][l]);
-        acc.body_force[q.body[l]] -= f;
-        acc.body_torque[q.body[l]] -= D::cross(q.arm[l], f);
+        const std::uint32_t body = walls_[q.wall[l]].body;
+        const AngVec t = D::cross(q.arm[l], f);
+        acc.body_force[body] -= f;
+        acc.body_torque[body] -= t;
+        acc.wall_force[q.wall[l]] -= f;
+        acc.wall_torque[q.wall[l]] -= t;
       }
       acc.contacts += n;
       q.count = 0;
@@ -1585,8 +1642,11 @@ class Simulation {
       const contact::ContactForce<D> cf = Model::evaluate(params_[prm], g, state != nullptr ? *state : tmp);
       p.f[row] += cf.force;
       p.torque[row] += cf.torque_i;
+      const AngVec t = D::cross(Vec(sp.point - bodies_[body].pose.translation()), cf.force);
       acc.body_force[body] -= cf.force;
-      acc.body_torque[body] -= D::cross(Vec(sp.point - bodies_[body].pose.translation()), cf.force);
+      acc.body_torque[body] -= t;
+      acc.wall_force[wall] -= cf.force;
+      acc.wall_torque[wall] -= t;
       ++acc.contacts;
     };
     const std::uint32_t e1 = list_.wall_begin[r1];

@@ -1,6 +1,7 @@
 // Thread-count determinism: the engine sums every particle's forces in an order fixed by the
 // neighbour list alone (simulation.hpp, header comment), so a run with 1 thread and a run with 2
-// threads must give bitwise identical positions, velocities, angular velocities and forces, and
+// threads must give bitwise identical positions, velocities, angular velocities and forces (also
+// the forces on the walls), and
 // two runs with 2 threads must too. The scene has thousands of particles in a tall periodic-x
 // column (many cell layers, so the three-colour layer loop really runs in parallel), with
 // gravity, walls and Hertz-Mindlin friction (history), so every part of a step is exercised.
@@ -24,6 +25,8 @@ template <class D>
 struct Snapshot {
   std::vector<typename D::Vec> x, v, f;
   std::vector<typename D::AngVec> omega, torque;
+  std::vector<typename D::Vec> wall_f;  // the particles' force on each wall (Wall::force)
+  std::vector<typename D::AngVec> wall_t;
   std::vector<std::uint64_t> id;
   std::size_t layers = 0;
   std::size_t builds = 0;
@@ -37,7 +40,8 @@ bool bitwise_equal(const std::vector<T>& a, const std::vector<T>& b) {
 template <class D>
 bool bitwise_equal(const Snapshot<D>& a, const Snapshot<D>& b) {
   return bitwise_equal(a.id, b.id) && bitwise_equal(a.x, b.x) && bitwise_equal(a.v, b.v) &&
-         bitwise_equal(a.f, b.f) && bitwise_equal(a.omega, b.omega) && bitwise_equal(a.torque, b.torque);
+         bitwise_equal(a.f, b.f) && bitwise_equal(a.omega, b.omega) && bitwise_equal(a.torque, b.torque) &&
+         bitwise_equal(a.wall_f, b.wall_f) && bitwise_equal(a.wall_t, b.wall_t);
 }
 
 // A jittered lattice of spacing 2.3 mm (radii 0.8..1.2 mm): 26 x 82 disks or 7 x 45 x 7 spheres.
@@ -122,6 +126,10 @@ Snapshot<D> run_column(int threads, std::size_t steps, bool perturb = false) {
   snap.omega.assign(p.omega.begin(), p.omega.begin() + n);
   snap.torque.assign(p.torque.begin(), p.torque.begin() + n);
   snap.id.assign(p.id.begin(), p.id.begin() + n);
+  for (const auto& w : sim.walls()) {
+    snap.wall_f.push_back(w.force);
+    snap.wall_t.push_back(w.torque);
+  }
   snap.layers = sim.neighbour_list().layers();
   snap.builds = sim.neighbour_list().builds;
   return snap;

@@ -11,6 +11,7 @@
 #include "granule/boundaries/geometry/box_container.hpp"
 #include "granule/boundaries/geometry/capsule.hpp"
 #include "granule/boundaries/geometry/cylinder.hpp"
+#include "granule/boundaries/geometry/cylinder_container.hpp"
 #include "granule/boundaries/geometry/plane.hpp"
 #include "granule/boundaries/geometry/prism.hpp"
 #include "granule/boundaries/geometry/sphero_line.hpp"
@@ -26,7 +27,8 @@ template <>
 struct WallShapes<Dim2> {
   using type = std::variant<geometry::PlaneShape<Dim2>, geometry::BoxContainerShape<Dim2>,
                             geometry::BoxShape<Dim2>, geometry::CapsuleShape<Dim2>,
-                            geometry::PrismShape<Dim2>, geometry::SpheroLineShape>;
+                            geometry::PrismShape<Dim2>, geometry::SpheroLineShape,
+                            geometry::CircleContainerShape>;
 };
 
 template <>
@@ -34,7 +36,7 @@ struct WallShapes<Dim3> {
   using type = std::variant<geometry::PlaneShape<Dim3>, geometry::BoxContainerShape<Dim3>,
                             geometry::BoxShape<Dim3>, geometry::CapsuleShape<Dim3>,
                             geometry::PrismShape<Dim3>, geometry::CylinderShape,
-                            geometry::TriangleMeshShape>;
+                            geometry::TriangleMeshShape, geometry::CylinderContainerShape>;
 };
 
 template <class D>
@@ -43,6 +45,10 @@ struct Wall {
   typename WallShapes<D>::type shape;
   std::uint32_t material = 0;
   std::uint32_t body = 0;
+  /// An inactive wall has no contacts (Simulation::set_wall_active: a gate that opens).
+  bool active = true;
+  Vec force = Vec::Zero();                ///< force of the particles on this wall, last step [N]
+  typename D::AngVec torque = D::zero_ang();  ///< their torque about the body's pose origin [N m]
 
   /// Calls f(SurfacePoint<D>) in world coordinates for every feature within r_cut of x.
   template <class F>

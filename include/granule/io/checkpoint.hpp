@@ -26,7 +26,10 @@ namespace granule::io {
 inline constexpr char kCheckpointMagic[12] = {'G', 'R', 'A', 'N', 'U', 'L', 'E', '\x01', 'C', 'K', 'P', 'T'};
 // 2: the neighbour list keeps history for touching pairs only (slots and per-layer pools).
 // 3: the build positions are floats, followed by their rounding (neighbours/pair_list.hpp).
-inline constexpr std::uint32_t kCheckpointVersion = 3;
+// 4: per wall, whether it is active and the force and torque of the particles on it. Version 3
+//    files are still read (every wall active, wall readouts zero until the next step), so cached
+//    beds stay usable.
+inline constexpr std::uint32_t kCheckpointVersion = 4;
 
 namespace detail {
 inline std::uint64_t fnv1a(const std::uint8_t* p, std::size_t n) {
@@ -86,8 +89,8 @@ std::vector<std::uint64_t> read_checkpoint(Sim& sim, const std::string& path) {
   for (char c : kCheckpointMagic)
     if (r.pod<char>() != c) r.fail("not a granule checkpoint (bad magic)");
   const auto version = r.pod<std::uint32_t>();
-  if (version != kCheckpointVersion)
-    r.fail("format version " + std::to_string(version) + " is not supported (this build reads " +
+  if (version != kCheckpointVersion && version != 3)
+    r.fail("format version " + std::to_string(version) + " is not supported (this build reads 3 and " +
            std::to_string(kCheckpointVersion) + ")");
   if (r.pod<std::uint32_t>() != 0x01020304u) r.fail("written on a machine with another byte order");
   // Integrity before anything else: length and checksum sit at the end.
@@ -106,7 +109,7 @@ std::vector<std::uint64_t> read_checkpoint(Sim& sim, const std::string& path) {
   if (sig != want) r.fail("written with '" + sig + "', this simulation is '" + want + "'");
   std::vector<std::uint64_t> user;
   r.vec(user);
-  sim.load_state(r);
+  sim.load_state(r, /*wall_states=*/version >= 4);
   if (r.position() != body) r.fail("unexpected trailing data");
   return user;
 }

@@ -4,6 +4,7 @@
 // padded with z = 0). Curved surfaces are faceted with `facets` segments per full turn; every
 // vertex of a tessellation lies on the exact surface. Infinite planes are drawn as a square
 // (3D) or a segment (2D) of half size `half_size` around their reference point.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include "granule/boundaries/geometry/box_container.hpp"
 #include "granule/boundaries/geometry/capsule.hpp"
 #include "granule/boundaries/geometry/cylinder.hpp"
+#include "granule/boundaries/geometry/cylinder_container.hpp"
 #include "granule/boundaries/geometry/plane.hpp"
 #include "granule/boundaries/geometry/posed_shape.hpp"
 #include "granule/boundaries/geometry/prism.hpp"
@@ -179,6 +181,24 @@ inline DisplayMesh tessellate(const CylinderShape& s, int facets = 32) {
     m.add_triangle(bottom_c, b1, b0);
   }
   return m;
+}
+
+/// Side: 2 triangles per facet; caps (closed tube only): triangle fans around their centres.
+inline DisplayMesh tessellate(const CylinderContainerShape& s, int facets = 32) {
+  detail::check_facets(facets, "geometry::tessellate(CylinderContainerShape)");
+  DisplayMesh m = tessellate(CylinderShape(s.centre(), s.axis(), s.radius(), s.half_length()), facets);
+  if (!s.closed()) {
+    m.triangles.erase(std::remove_if(m.triangles.begin(), m.triangles.end(),
+                                     [](const auto& t) { return t[0] < 2; }),  // the cap fans
+                      m.triangles.end());
+  }
+  return m;
+}
+
+/// Closed outline (lines) of a 2D circle container.
+inline DisplayMesh tessellate(const CircleContainerShape& s, int facets = 32) {
+  detail::check_facets(facets, "geometry::tessellate(CircleContainerShape)");
+  return detail::stadium_outline(s.centre(), s.centre(), s.radius(), facets);
 }
 
 /// Two hemispheres (latitude rings) joined by the cylindrical side.
