@@ -235,10 +235,13 @@ void check_packed_against_scalar(double dt, std::uint64_t seed) {
       CHECK(std::abs(cf.fn[q] - cs.fn) <= 1e-12 * std::abs(cs.fn));
       const auto after_scalar = state_doubles<Model>(ss);
       const auto after_packed = state_doubles<Model>(packed_states[c]);
+      // Absolute floor 1e-20 (m, N or N m): with FMA the packed geometry gives a v_t of ~1e-17 m/s
+      // where the scalar one gives exactly 0, so a spring displacement that stays exactly 0 in the
+      // scalar law carries ~5e-23 m in the packed one (measured; 2D test alike).
       for (std::size_t a = 0; a < after_scalar.size(); ++a) {
         INFO("contact " << c << ", history double " << a);
         CHECK(std::abs(after_packed[a] - after_scalar[a]) <=
-              1e-12 * std::abs(after_scalar[a]) + 1e-12 * std::abs(before[a]) + 1e-300);
+              1e-12 * std::abs(after_scalar[a]) + 1e-12 * std::abs(before[a]) + 1e-20);
       }
     }
   }

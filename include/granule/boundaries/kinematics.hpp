@@ -101,7 +101,11 @@ auto piecewise_linear(std::vector<double> times, std::vector<V> values) -> std::
   granule::require(values.size() == n, where, "values.size()", static_cast<double>(values.size()),
                    "{" + std::to_string(n) + "} (= times.size())");
   for (std::size_t k = 0; k < n; ++k) {
-    const std::string tk = "times[" + std::to_string(k) + "]";
+    // Appended rather than "times[" + to_string(k): GCC 12 warns (-Wrestrict, a false positive)
+    // on operator+(const char*, string&&) once this is inlined.
+    std::string tk = "times[";
+    tk += std::to_string(k);
+    tk += ']';
     granule::require_finite(times[k], where, tk);
     if (k > 0)
       granule::require(times[k] > times[k - 1], where, tk, times[k],
