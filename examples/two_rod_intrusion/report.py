@@ -168,10 +168,27 @@ def table_paper(studies):
     pc = cy["peak"].get("cylinder", {})
     rows = ["| quantity | paper 000 | ours (paper scale) |", "|---|---|---|"]
     if p:
-        rows.append(f"| (s/d) of the peak, square rods | ≈ 3 (2–4) | {fmt(p['peak_gap_over_d'])} "
+        rows.append(f"| (s/d) of the peak, square rods, 9 × 9 cm box | ≈ 3 (2–4) | {fmt(p['peak_gap_over_d'])} "
                     f"(bootstrap 16–84 %: {fmt(p['peak_gap_p16'])}–{fmt(p['peak_gap_p84'])}, {int(p['beds'])} beds) |")
-        rows.append(f"| peak / plateau (s/d ≥ 11), square rods | ≈ 1.25 | {fmt(p['peak_over_plateau'], 3)} "
+        rows.append(f"| peak / plateau (s/d ≥ 11), square rods, 9 × 9 cm box | ≈ 1.25 | {fmt(p['peak_over_plateau'], 3)} "
                     f"({fmt(p['peak_over_plateau_p16'], 3)}–{fmt(p['peak_over_plateau_p84'], 3)}) |")
+    p13 = by.get("box13", {"peak": {}})["peak"].get("square", {})
+    if p13:
+        rows.append(f"| (s/d) of the peak, square rods, 13 × 13 cm box | ≈ 3 (2–4) | {fmt(p13['peak_gap_over_d'])} "
+                    f"(parabola {fmt(p13['peak_gap_parabola'], 3)}; bootstrap 16–84 %: {fmt(p13['peak_gap_p16'])}–"
+                    f"{fmt(p13['peak_gap_p84'])}, {int(p13['beds'])} beds) |")
+        rows.append(f"| peak / plateau (s/d ≥ 11), square rods, 13 × 13 cm box | ≈ 1.25 | "
+                    f"{fmt(p13['peak_over_plateau'], 3)} ({fmt(p13['peak_over_plateau_p16'], 3)}–"
+                    f"{fmt(p13['peak_over_plateau_p84'], 3)}) |")
+    ratios = []
+    for tag, side in (("square", "9"), ("box13", "13"), ("box17", "17"), ("box25", "25")):
+        w = {r["gap_over_d"]: r for r in by.get(tag, {"gaps": {}})["gaps"].get("square", [])}
+        if 3 in w and 15 in w:
+            ratios.append(f"{fmt(w[3]['work_mean'] / w[15]['work_mean'], 3)} ({side} cm, {int(w[3]['beds'])} "
+                          f"bed{'s' if w[3]['beds'] > 1 else ''})")
+    if len(ratios) > 1:
+        rows.append("| W(s/d = 3) / W(s/d = 15), square rods, by box side | ≈ 1.25 (25 cm box; the plateau) | "
+                    + ", ".join(ratios) + " |")
     if pc:
         rows.append(f"| (s/d) of the peak, cylinders | ≈ 2–3 (figs. 2C, 3) | {fmt(pc['peak_gap_over_d'])} ({int(pc['beds'])} bed) |")
         rows.append(f"| W*, cylinders | 0.55 J | {fmt(pc['work_peak'], 3)} J |")
