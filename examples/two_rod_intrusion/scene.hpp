@@ -30,6 +30,7 @@
 #include <limits>
 #include <memory>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -396,17 +397,39 @@ inline BedInfo pour_bed(Sim& sim, const BedParams& p, std::uint32_t grain,
   BedInfo info;
   const double t0 = sim.time();
   sim.set_dt(p.dt_while_pouring());
+  // Progress of a long pour (a million grains take an hour): a line every 30 s of wall time,
+  // with the simulated time, the kinetic energy against the settling target and, for the fall,
+  // whose end is known, an ETA.
+  using Clock = std::chrono::steady_clock;
+  const auto wall0 = Clock::now();
+  auto last = wall0;
+  const auto reporter = [&](const char* stage, double t_end) {
+    return [&, stage, t_end](double t, double ke) {
+      const auto now = Clock::now();
+      if (!log || now - last < std::chrono::seconds(30)) return;
+      last = now;
+      const double wall = std::chrono::duration<double>(now - wall0).count();
+      std::ostringstream s;
+      s.precision(3);
+      s << "  pour: " << stage << ", t = " << t - t0 << " s, KE/(m g d) = " << ke / (m * p.gravity * d)
+        << " (target " << p.settle_ke << "), " << wall << " s wall";
+      if (t_end > 0.0 && t > t0) s << ", stage ETA " << wall * (t_end - t) / (t - t0) << " s";
+      log(s.str());
+    };
+  };
   // Free fall of the column (no damping) for the time its top layer needs to land.
   scene::SettleOptions fall;
   fall.max_time = std::sqrt(2.0 * layers * a / std::max(p.gravity, 1e-9)) + 0.02;
   fall.kinetic_energy_per_particle = 0.0;
-  fall.check_interval = fall.max_time;
+  fall.check_interval = 0.01 * fall.max_time;
+  fall.on_check = reporter("free fall", t0 + fall.max_time);
   scene::settle(sim, fall);
   scene::SettleOptions calm;
   calm.max_time = p.max_settle_time;
   calm.zero_velocity_interval = p.zero_interval;
   calm.check_interval = p.zero_interval > 0.0 ? p.zero_interval : 5e-3;
   calm.kinetic_energy_per_particle = p.settle_ke * m * p.gravity * d;
+  calm.on_check = reporter("settling", 0.0);
   auto res = scene::settle(sim, calm);
   if (log) log("settled (stage 1) after " + std::to_string(sim.time() - t0) + " s, mean KE/(m g d) = " +
                std::to_string(res.kinetic_energy_per_particle / (m * p.gravity * d)));
