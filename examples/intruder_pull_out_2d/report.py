@@ -23,13 +23,13 @@ one of ours "within 002's spread" is given with each in PAPER.
 import csv
 import math
 import os
-import re
 import sys
 
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 from readme_blocks import render  # noqa: E402  (examples/common/readme_blocks.py)
+from result_csv import read_table  # noqa: E402  (examples/common/result_csv.py)
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 RESULTS = os.path.join(HERE, "results")
 README = os.path.join(HERE, "README.md")
@@ -55,21 +55,6 @@ PAPER = {
 def read_csv(path):
     with open(path, newline="", encoding="utf-8") as f:
         return [r for r in csv.reader(f) if r and not r[0].startswith("#")]
-
-
-def read_table(path):
-    rows = read_csv(path)
-    names = [re.sub(r"\s*\[.*\]$", "", h) for h in rows[0]]
-    out = []
-    for r in rows[1:]:
-        d = {}
-        for n, v in zip(names, r):
-            try:
-                d[n] = float(v)
-            except ValueError:
-                d[n] = v
-        out.append(d)
-    return out
 
 
 def read_summary(path):

@@ -18,7 +18,10 @@ import math
 import os
 import sys
 
-import matplotlib
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from result_csv import read_table  # noqa: E402  (examples/common/result_csv.py)
+
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -41,24 +44,6 @@ def finite(*arrays):
     return [[a[k] for k in range(len(a)) if keep[k]] for a in arrays]
 
 
-def read_text(path):
-    """Rows of a CSV file (a first "# ..." provenance line skipped) as dicts keyed by the column
-    name without its unit; numbers as float, the rest as text."""
-    with open(path, newline="") as f:
-        rows = list(csv.reader(l for l in f if not l.startswith("#")))
-    names = [h.split(" [")[0] for h in rows[0]]
-    out = []
-    for r in rows[1:]:
-        d = {}
-        for n, v in zip(names, r):
-            try:
-                d[n] = float(v)
-            except ValueError:
-                d[n] = v
-        out.append(d)
-    return out
-
-
 def load_name(r):
     if r["load"] == "gravity":
         return "g = %g m/s$^2$" % r["gravity"]
@@ -70,7 +55,7 @@ def plot_validation(res, out):
     path = os.path.join(res, "grid_speeds.csv")
     if not os.path.exists(path):
         return
-    rows = read_text(path)
+    rows = read_table(path)
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for key in dict.fromkeys((r["material"], load_name(r)) for r in rows):
         sel = [r for r in rows if (r["material"], load_name(r)) == key]
@@ -93,9 +78,9 @@ def plot_grid_preload(res, out):
     path = os.path.join(res, "grid_preload_sweep.csv")
     if not os.path.exists(path):
         return
-    rows = read_text(path)
+    rows = read_table(path)
     summ = os.path.join(res, "grid_summary.csv")
-    grav = [r for r in read_text(summ) if r["load"] == "gravity"] if os.path.exists(summ) else []
+    grav = [r for r in read_table(summ) if r["load"] == "gravity"] if os.path.exists(summ) else []
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for k, mat in enumerate(dict.fromkeys(r["material"] for r in rows)):
         sel = [r for r in rows if r["material"] == mat]

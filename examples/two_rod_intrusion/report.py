@@ -15,7 +15,6 @@ exit code is 1 if README.md differs from what the results give (the test of test
 The paper's values are those its text states (abstract, section II, figure captions); our copy
 of the paper has no figures to digitise, so the plots mark the stated values and ranges.
 """
-import csv
 import glob
 import math
 import os
@@ -26,6 +25,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 from readme_blocks import render  # noqa: E402  (examples/common/readme_blocks.py)
+from result_csv import read_table as read_rows  # noqa: E402  (examples/common/result_csv.py)
 RESULTS = os.path.join(HERE, "results")
 README = os.path.join(HERE, "README.md")
 
@@ -38,22 +38,6 @@ PAPER = {
     "square_over_cylinder": 4.0 / 3.141592653589793,  # fig. 3: surface-area ratio 4/pi at large gaps
     "packing": 0.62,            # table I
 }
-
-
-def read_rows(path):
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    names = [re.sub(r"\s*\[.*\]$", "", h) for h in rows[0]]
-    out = []
-    for r in rows[1:]:
-        d = {}
-        for n, v in zip(names, r):
-            try:
-                d[n] = float(v)
-            except ValueError:
-                d[n] = v
-        out.append(d)
-    return out
 
 
 def load(tag):
