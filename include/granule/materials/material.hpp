@@ -20,6 +20,8 @@ struct Material {
   double rolling_friction = 0.0;  ///< mu_r, rolling friction coefficient [-] (torque limit mu_r R* F_n)
   double rolling_damping = 0.0;   ///< eta_r, rolling viscous damping ratio [-] (EPSD, Ai et al. 2011)
   double cohesion_energy_density = 0.0;  ///< k_c, SJKR cohesion energy density [J/m^3]
+  /// gamma, surface energy of one surface [J/m^2] (JKR, DMT: work of adhesion w = 2 gamma).
+  double surface_energy = 0.0;
   /// Linear spring-dashpot only: normal stiffness [N/m]. 0 means "derive from E and the
   /// reference length": k_n = E * reference_length (2D disks, paper 002 section 2.3).
   double normal_stiffness = 0.0;
@@ -68,6 +70,8 @@ struct Material {
             rolling_damping, "[0, inf)");
     require(cohesion_energy_density >= 0.0 && std::isfinite(cohesion_energy_density), where,
             "cohesion_energy_density", cohesion_energy_density, "[0, inf) J/m^3");
+    require(surface_energy >= 0.0 && std::isfinite(surface_energy), where, "surface_energy", surface_energy,
+            "[0, inf) J/m^2");
     require(normal_stiffness >= 0.0 && std::isfinite(normal_stiffness), where, "normal_stiffness",
             normal_stiffness, "[0, inf) N/m (0 = derive from E * reference_length)");
     require(reference_length >= 0.0 && std::isfinite(reference_length), where, "reference_length",

@@ -48,6 +48,8 @@ class MaterialTable {
     require(p.mu_s >= 0.0, where, "mu_s", p.mu_s, "[0, inf)");
     require(p.mu_r >= 0.0, where, "mu_r", p.mu_r, "[0, inf)");
     require(p.k_c >= 0.0, where, "k_c", p.k_c, "[0, inf) J/m^3");
+    require(p.surface_energy >= 0.0 && std::isfinite(p.surface_energy), where, "surface_energy",
+            p.surface_energy, "[0, inf) J/m^2");
     const std::size_t n = materials_.size();
     pairs_[a * n + b] = p;
     pairs_[b * n + a] = p;

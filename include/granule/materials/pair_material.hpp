@@ -30,6 +30,7 @@ struct PairMaterial {
   double mu_r = 0.0;                ///< rolling friction [-]
   double rolling_damping = 0.0;     ///< eta_r [-]
   double k_c = 0.0;                 ///< SJKR cohesion energy density [J/m^3]
+  double surface_energy = 0.0;      ///< gamma [J/m^2]; JKR and DMT use w = 2 gamma
   double k_n_linear = 0.0;          ///< linear normal stiffness [N/m]
   double kt_ratio = 2.0 / 7.0;      ///< linear tangential stiffness ratio k_t/k_n [-]
   double rolling_stiffness_factor = 2.25;  ///< EPSD k_r factor [-]
@@ -62,6 +63,7 @@ inline PairMaterial mix(const Material& a, const Material& b) {
     p.mu_r = s.rolling_friction;
     p.rolling_damping = s.rolling_damping;
     p.k_c = s.cohesion_energy_density;
+    p.surface_energy = s.surface_energy;
     p.k_n_linear = 2.0 * s.linear_normal_stiffness();
     p.kt_ratio = s.tangential_stiffness_ratio;
     p.rolling_stiffness_factor = s.rolling_stiffness_factor;
@@ -72,6 +74,9 @@ inline PairMaterial mix(const Material& a, const Material& b) {
   p.mu_r = 0.5 * (a.rolling_friction + b.rolling_friction);
   p.rolling_damping = 0.5 * (a.rolling_damping + b.rolling_damping);
   p.k_c = 0.5 * (a.cohesion_energy_density + b.cohesion_energy_density);
+  // Like surfaces: Dupre's w = gamma_1 + gamma_2 - gamma_12 = 2 gamma; unlike ones take the
+  // mean gamma (w = gamma_1 + gamma_2, gamma_12 unknown): set_pair overrides it.
+  p.surface_energy = 0.5 * (a.surface_energy + b.surface_energy);
   // Linear stiffness: like materials keep their k_n (002's k_n = E d is the contact stiffness);
   // unlike ones combine as two half-contacts of stiffness 2 k in series: 2 k_a k_b / (k_a + k_b).
   const double ka = a.linear_normal_stiffness(), kb = b.linear_normal_stiffness();
@@ -90,6 +95,7 @@ struct PairOverride {
   std::optional<double> rolling_friction;         ///< mu_r [-], [0, inf)
   std::optional<double> rolling_damping;          ///< eta_r [-], [0, inf)
   std::optional<double> cohesion_energy_density;  ///< k_c [J/m^3], [0, inf)
+  std::optional<double> surface_energy;           ///< gamma [J/m^2], [0, inf) (w = 2 gamma)
   std::optional<double> linear_normal_stiffness;  ///< k_n of the linear laws [N/m], (0, inf)
   std::optional<double> tangential_stiffness_ratio;  ///< k_t / k_n of the linear laws [-], (0, inf)
 
@@ -104,6 +110,7 @@ struct PairOverride {
     check(rolling_friction, "rolling_friction", true, "[0, inf)");
     check(rolling_damping, "rolling_damping", true, "[0, inf)");
     check(cohesion_energy_density, "cohesion_energy_density", true, "[0, inf) J/m^3");
+    check(surface_energy, "surface_energy", true, "[0, inf) J/m^2");
     check(linear_normal_stiffness, "linear_normal_stiffness", false, "(0, inf) N/m");
     check(tangential_stiffness_ratio, "tangential_stiffness_ratio", false, "(0, inf)");
   }
@@ -115,6 +122,7 @@ struct PairOverride {
     p.mu_r = rolling_friction.value_or(p.mu_r);
     p.rolling_damping = rolling_damping.value_or(p.rolling_damping);
     p.k_c = cohesion_energy_density.value_or(p.k_c);
+    p.surface_energy = surface_energy.value_or(p.surface_energy);
     p.k_n_linear = linear_normal_stiffness.value_or(p.k_n_linear);
     p.kt_ratio = tangential_stiffness_ratio.value_or(p.kt_ratio);
     return p;
