@@ -726,8 +726,10 @@ class Simulation {
   /// Rebuilds the neighbour list now (normally automatic).
   void rebuild() {
     const double skin = effective_skin();
+    // A tensile model lists pairs to the pull-off separation beyond the skin (the rebuild test
+    // stays at half the skin, so a pair that can still touch is always listed).
     list_.template rebuild<Search>(
-        particles_, config_.domain, skin, [](State& s) { Model::reverse(s); },
+        particles_, config_.domain, skin + max_tensile_reach(), [](State& s) { Model::reverse(s); },
         [&](std::size_t, const Vec& x, double reach, auto&& emit) {
           for (std::uint32_t w = 0; w < walls_.size(); ++w) {
             if (!walls_[w].active) continue;
@@ -999,13 +1001,18 @@ class Simulation {
     throw InstabilityError(s.str());
   }
 
-  // Builds the contact geometry of pair (i, j); returns false if not touching.
-  bool pair_geometry(std::size_t i, std::size_t j, contact::ContactGeometry<D>& g) const {
+  // Builds the contact geometry of pair (i, j); returns false if not touching. A tensile
+  // model's formed contact touches to a separation of `reach` (overlap > -reach).
+  bool pair_geometry(std::size_t i, std::size_t j, contact::ContactGeometry<D>& g, double reach = 0.0) const {
     const auto& p = particles_;
     const Vec d = p.x[i] - p.x[j];
     const double rs = p.radius[i] + p.radius[j];
     const double d2 = d.squaredNorm();
-    if (d2 >= rs * rs) return false;
+    if constexpr (Model::tensile) {
+      if (d2 >= (rs + reach) * (rs + reach)) return false;
+    } else {
+      if (d2 >= rs * rs) return false;
+    }
     const double dist = std::sqrt(d2);
     g.distance = dist;
     g.n = dist > 0.0 ? Vec(d / dist) : Vec(Vec::Unit(D::dim - 1));
@@ -1080,6 +1087,29 @@ class Simulation {
     return true;
   }
 
+  // How far apart pair (i, j) with history h still touches: the pull-off separation once the
+  // contact has formed (tensile models), else 0.
+  double tensile_reach(const State* h, const Params& prm, std::size_t i, std::size_t j) const {
+    if constexpr (Model::tensile) {
+      if (h == nullptr || !h->contact.formed) return 0.0;
+      const double ri = particles_.radius[i], rj = particles_.radius[j];
+      return Model::pull_off_separation(prm, ri * rj / (ri + rj));
+    } else {
+      return 0.0;
+    }
+  }
+
+  // The largest pull-off separation of any pair (R* <= r_max / 2), for the list's cut-off.
+  double max_tensile_reach() const {
+    double reach = 0.0;
+    if constexpr (Model::tensile) {
+      double r_max = 0.0;
+      for (std::size_t i = 0; i < particles_.owned(); ++i) r_max = std::max(r_max, particles_.radius[i]);
+      for (const Params& prm : params_) reach = std::max(reach, Model::pull_off_separation(prm, 0.5 * r_max));
+    }
+    return reach;
+  }
+
   const Params& pair_params(std::size_t i, std::size_t j) const {
     return params_[particles_.material[i] * materials_.size() + particles_.material[j]];
   }
@@ -1095,8 +1125,8 @@ class Simulation {
       for (std::size_t i = list_.layer_begin[l]; i < list_.layer_begin[l + 1]; ++i) {
         for (std::uint32_t e = list_.row_begin[i]; e < list_.row_begin[i + 1]; ++e) {
           const std::uint32_t j = list_.nbr[e];
-          if (!pair_geometry(i, j, g)) continue;
           const State* h = kHasState ? list_.history(l, e) : nullptr;
+          if (!pair_geometry(i, j, g, tensile_reach(h, pair_params(i, j), i, j))) continue;
           f(g, pair_params(i, j), h ? *h : kEmpty, i, j, 0u);
         }
         for (std::uint32_t e = list_.wall_begin[i]; e < list_.wall_begin[i + 1]; ++e) {
@@ -1296,7 +1326,9 @@ class Simulation {
       const Params* prow = &params_[p.material[i] * nm];
       for (std::uint32_t e = list_.row_begin[i]; e < list_.row_begin[i + 1]; ++e) {
         const std::uint32_t j = list_.nbr[e];
-        if (!pair_geometry(i, j, g)) {
+        double reach = 0.0;
+        if constexpr (Model::tensile) reach = tensile_reach(list_.history(l, e), prow[p.material[j]], i, j);
+        if (!pair_geometry(i, j, g, reach)) {
           if constexpr (kHasState) list_.drop(l, e);
           continue;
         }

@@ -14,6 +14,8 @@
 #include <string>
 #include <type_traits>
 
+#include "granule/contact/cohesion/dmt.hpp"
+#include "granule/contact/cohesion/jkr.hpp"
 #include "granule/contact/cohesion/none.hpp"
 #include "granule/contact/cohesion/sjkr.hpp"
 #include "granule/contact/geometry.hpp"
@@ -52,6 +54,22 @@ constexpr bool couples_normal() {
     return false;
   }
 }
+/// A cohesion law whose contacts last to a negative overlap once formed (JKR) declares
+/// `static constexpr bool tensile = true` and `separation(Params, r_eff)`, the pull-off distance.
+template <class Law>
+constexpr bool tensile() {
+  if constexpr (requires { Law::tensile; }) {
+    return Law::tensile;
+  } else {
+    return false;
+  }
+}
+/// History of a tensile model: the contact has formed (touched), so it lasts to -delta_c.
+struct Formed {
+  bool formed = false;
+};
+/// (Not NoState: two members of one empty type would take a byte.)
+struct NotTensile {};
 template <class Law>
 constexpr bool lanes() {
   if constexpr (requires { Law::lanes; }) {
@@ -81,10 +99,16 @@ struct ContactModel {
     typename Cohesion::Params cohesion;
   };
 
+  /// Contacts last to a negative overlap, down to -pull_off_separation, once formed (JKR).
+  /// False for every other law: the engine's tensile code is then compiled out.
+  static constexpr bool tensile = detail::tensile<Cohesion>();
+  static_assert(!tensile || Normal::hertzian, "ContactModel: a tensile cohesion law (JKR) replaces the Hertz force");
+
   template <class D>
   struct State {
     [[no_unique_address]] typename Tangential::template State<D> tangential;
     [[no_unique_address]] typename Rolling::template State<D> rolling;
+    [[no_unique_address]] std::conditional_t<tensile, detail::Formed, detail::NotTensile> contact;
   };
 
   /// True when contacts carry history (the neighbour list then stores one State per entry).
@@ -109,8 +133,32 @@ struct ContactModel {
     return {Normal::make(p), Tangential::make(p), Rolling::make(p), Cohesion::make(p, thickness)};
   }
 
+  /// Separation at which a formed contact breaks, |delta_c| [m] (0 unless tensile).
+  static double pull_off_separation(const Params& p, double r_eff) {
+    if constexpr (tensile) {
+      return Cohesion::separation(p.cohesion, r_eff);
+    } else {
+      return 0.0;
+    }
+  }
+
   template <class D>
   static ContactForce<D> evaluate(const Params& p, const ContactGeometry<D>& g, State<D>& s) {
+    if constexpr (tensile) {
+      // Every slot sees the Hertzian overlap of the contact radius (cohesion/jkr.hpp), > 0 also
+      // while the formed contact is stretched to a negative overlap.
+      s.contact.formed = true;
+      ContactGeometry<D> elastic = g;
+      elastic.overlap = Cohesion::elastic_overlap(p.cohesion, g.overlap, g.r_eff);
+      return compose(p, elastic, s);
+    } else {
+      return compose(p, g, s);
+    }
+  }
+
+ private:
+  template <class D>
+  static ContactForce<D> compose(const Params& p, const ContactGeometry<D>& g, State<D>& s) {
     NormalResultOf<D> nr = Normal::eval(p.normal, g);
     nr.fn -= Cohesion::eval(p.cohesion, g);
     if constexpr (detail::couples_normal<Tangential>()) {
@@ -130,10 +178,13 @@ struct ContactModel {
     return f;
   }
 
+ public:
   /// Elastic energy stored in the contact: normal spring + tangential and rolling springs [J].
   /// Cohesion energy is not included.
   template <class D>
-  static double stored_energy(const Params& p, const ContactGeometry<D>& g, const State<D>& s) {
+  static double stored_energy(const Params& p, const ContactGeometry<D>& gt, const State<D>& s) {
+    ContactGeometry<D> g = gt;
+    if constexpr (tensile) g.overlap = Cohesion::elastic_overlap(p.cohesion, gt.overlap, gt.r_eff);
     NormalResult nr = Normal::eval(p.normal, g);
     nr.fn -= Cohesion::eval(p.cohesion, g);
     return Normal::elastic_energy(p.normal, g.overlap, g.r_eff) +
@@ -161,6 +212,10 @@ using HertzMindlinIncremental = ContactModel<HertzNormal, MindlinTangentialIncre
 using HertzMindlinNonTensile = ContactModel<NonTensile<HertzNormal>, MindlinTangential>;
 using HertzMindlinEpsd = ContactModel<HertzNormal, MindlinTangential, EpsdRolling>;
 using HertzMindlinEpsdSjkr = ContactModel<HertzNormal, MindlinTangential, EpsdRolling, SjkrCohesion>;
+/// Hertz-Mindlin with JKR adhesion and its hysteresis (cohesion/jkr.hpp; scalar pair loop).
+using HertzMindlinJkr = ContactModel<HertzNormal, MindlinTangential, NoRolling, JkrCohesion>;
+/// Hertz-Mindlin with DMT adhesion, a constant pull 2 pi w R* while overlapping (cohesion/dmt.hpp).
+using HertzMindlinDmt = ContactModel<HertzNormal, MindlinTangential, NoRolling, DmtCohesion>;
 /// Paper 002: linear normal law, incremental regularised Coulomb friction, rolling friction.
 using LinearCoulombRolling = ContactModel<LinearNormal, IncrementalCoulombTangential, EpsdRolling>;
 
