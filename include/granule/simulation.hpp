@@ -1050,10 +1050,14 @@ class Simulation {
 
   // Builds the contact geometry of particle i against a wall surface point.
   bool wall_geometry(std::size_t i, const geometry::SurfacePoint<D>& sp, const Body<D>& b,
-                     contact::ContactGeometry<D>& g) const {
+                     contact::ContactGeometry<D>& g, double reach = 0.0) const {
     const auto& p = particles_;
     const double overlap = p.radius[i] - sp.distance;
-    if (overlap <= 0.0) return false;
+    if constexpr (Model::tensile) {
+      if (overlap <= -reach) return false;
+    } else {
+      if (overlap <= 0.0) return false;
+    }
     g.n = sp.normal;
     g.overlap = overlap;
     g.distance = std::numeric_limits<double>::infinity();
@@ -1099,13 +1103,22 @@ class Simulation {
     }
   }
 
-  // The largest pull-off separation of any pair (R* <= r_max / 2), for the list's cut-off.
+  // As tensile_reach for particle i and a wall (R* = r_i).
+  double tensile_wall_reach(const State* h, const Params& prm, std::size_t i) const {
+    if constexpr (Model::tensile) {
+      return h == nullptr || !h->contact.formed ? 0.0 : Model::pull_off_separation(prm, particles_.radius[i]);
+    } else {
+      return 0.0;
+    }
+  }
+
+  // The largest pull-off separation of any contact (R* <= r_max, a wall's), for the list's cut-off.
   double max_tensile_reach() const {
     double reach = 0.0;
     if constexpr (Model::tensile) {
       double r_max = 0.0;
       for (std::size_t i = 0; i < particles_.owned(); ++i) r_max = std::max(r_max, particles_.radius[i]);
-      for (const Params& prm : params_) reach = std::max(reach, Model::pull_off_separation(prm, 0.5 * r_max));
+      for (const Params& prm : params_) reach = std::max(reach, Model::pull_off_separation(prm, r_max));
     }
     return reach;
   }
@@ -1133,10 +1146,12 @@ class Simulation {
           const auto we = list_.wall[e];
           const Wall<D>& w = walls_[we.wall];
           const Body<D>& b = bodies_[w.body];
-          w.for_each_contact(b, p.x[i], p.radius[i], [&](const geometry::SurfacePoint<D>& sp) {
-            if (sp.feature != we.feature || !wall_geometry(i, sp, b, g)) return;
+          const Params& prm = params_[p.material[i] * materials_.size() + w.material];
+          const double reach = tensile_wall_reach(list_.wall_state.empty() ? nullptr : &list_.wall_state[e], prm, i);
+          w.for_each_contact(b, p.x[i], Model::tensile ? p.radius[i] + reach : p.radius[i], [&](const geometry::SurfacePoint<D>& sp) {
+            if (sp.feature != we.feature || !wall_geometry(i, sp, b, g, reach)) return;
             const State& s = kHasState ? list_.wall_state[e] : kEmpty;
-            f(g, params_[p.material[i] * materials_.size() + w.material], s, i, we.wall, 1u);
+            f(g, prm, s, i, we.wall, 1u);
           });
         }
       }
@@ -1400,12 +1415,25 @@ class Simulation {
     const Body<D>& b = bodies_[w.body];
     const std::size_t prm = p.material[i] * materials_.size() + w.material;
     contact::ContactGeometry<D> g;
-    w.for_each_contact(b, p.x[i], p.radius[i], [&](const geometry::SurfacePoint<D>& sp) {
-      if (!wall_geometry(i, sp, b, g)) return;
+    // A tensile model looks for features to the pull-off separation (formed contacts hold there).
+    double search = p.radius[i];
+    if constexpr (Model::tensile) search += Model::pull_off_separation(params_[prm], p.radius[i]);
+    w.for_each_contact(b, p.x[i], search, [&](const geometry::SurfacePoint<D>& sp) {
       // History slot of this feature among the row's entries for this wall.
+      const auto find_slot = [&] {
+        for (std::uint32_t k = e; k < row_end && list_.wall[k].wall == wall; ++k)
+          if (list_.wall[k].feature == sp.feature) return k;
+        return std::numeric_limits<std::uint32_t>::max();
+      };
       std::uint32_t slot = std::numeric_limits<std::uint32_t>::max();
-      for (std::uint32_t k = e; k < row_end && list_.wall[k].wall == wall; ++k)
-        if (list_.wall[k].feature == sp.feature) { slot = k; break; }
+      if constexpr (Model::tensile) {
+        slot = find_slot();
+        const State* h = slot != std::numeric_limits<std::uint32_t>::max() ? &list_.wall_state[slot] : nullptr;
+        if (!wall_geometry(i, sp, b, g, tensile_wall_reach(h, params_[prm], i))) return;
+      } else {
+        if (!wall_geometry(i, sp, b, g)) return;
+        slot = find_slot();
+      }
       if (slot == std::numeric_limits<std::uint32_t>::max()) ++acc.missing_wall_features;
       note_wall_overlap(i, wall, g, max_ratio, acc);
       State* state = nullptr;
@@ -1434,7 +1462,11 @@ class Simulation {
     const Body<D>& b = bodies_[w.body];
     const geometry::SurfacePoint<D> sp = b.pose.to_world(plane.closest(b.pose.to_body(p.x[i])));
     contact::ContactGeometry<D> g;
-    if (!(sp.distance < p.radius[i]) || !wall_geometry(i, sp, b, g)) {
+    double reach = 0.0;
+    if constexpr (Model::tensile) {
+      reach = tensile_wall_reach(&list_.wall_state[e], params_[p.material[i] * materials_.size() + w.material], i);
+    }
+    if (!(sp.distance < (Model::tensile ? p.radius[i] + reach : p.radius[i])) || !wall_geometry(i, sp, b, g, reach)) {
       if constexpr (kHasState) list_.wall_state[e] = State{};
       return;
     }

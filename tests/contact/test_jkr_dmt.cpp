@@ -201,6 +201,51 @@ TEST_CASE("JKR engine: contact forms at touch and breaks at -delta_c", "[contact
   }
 }
 
+// Reference (walls): a sphere (R* = r) leaving a plane or a box face at 0.1 m/s from its zero-load
+// overlap holds F(a(delta)) to delta = -delta_c(R* = r) = -3/4 (pi^2 w^2 r / E*^2)^(1/3) (2^1/3 of the
+// pair's) and is gone beyond it. E* of a sphere on a rigid wall is E/(1 - nu^2), twice the pair's.
+TEST_CASE("JKR engine: a sphere pulled off a wall breaks at -delta_c", "[contact][cohesion][jkr]") {
+  const Material m = adhesive_material();
+  const contact::JkrCohesion::Params p{kW, m.youngs_modulus / (1.0 - m.poisson_ratio * m.poisson_ratio)};
+  const double dc = 0.75 * std::cbrt(kPi * kPi * kW * kW * kR / (p.E_eff * p.E_eff));
+  const double a0 = std::cbrt(9.0 * kPi * kW * kR * kR / (2.0 * p.E_eff)), delta0 = a0 * a0 / (3.0 * kR);
+  const double v = 0.1, dt = 1.0e-6;
+  for (const bool plane : {true, false}) {
+    INFO((plane ? "plane" : "box"));
+    SimulationConfig<Dim3> cfg;
+    cfg.domain.lo = Eigen::Vector3d::Constant(-0.01);
+    cfg.domain.hi = Eigen::Vector3d::Constant(0.01);
+    cfg.dt = dt;
+    Simulation<Dim3, contact::HertzMindlinJkr> sim(cfg);
+    const auto pm = sim.add_material(m);
+    const auto wm = sim.add_wall_material(Material::rigid_wall());
+    if (plane) {
+      sim.add_wall(geometry::PlaneShape<Dim3>(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, 1)), wm);
+    } else {
+      sim.add_wall(geometry::BoxShape<Dim3>(Eigen::Vector3d(-0.005, -0.005, -0.005), Eigen::Vector3d(0.005, 0.005, 0.0)), wm);
+    }
+    sim.add_particle(Eigen::Vector3d(0.0, 0.0, kR - delta0), kR, pm, Eigen::Vector3d(0.0, 0.0, v));
+    double last_contact = 1.0, first_apart = 1.0;
+    for (int s = 0; s < 400; ++s) {
+      sim.step();
+      const auto& pp = sim.particles();
+      const double d = kR - pp.x[0].z();
+      if (sim.contact_count() == 1) {
+        REQUIRE(first_apart == 1.0);
+        last_contact = d;
+        const double f = contact::JkrCohesion::force(p, contact::JkrCohesion::contact_radius(p, d, kR), kR);
+        CHECK(pp.f[0].z() == Approx(f).epsilon(1e-9));
+      } else if (first_apart == 1.0) {
+        first_apart = d;
+      }
+    }
+    INFO("last in contact at " << last_contact << " m, first apart at " << first_apart << " m, -delta_c = " << -dc);
+    CHECK(last_contact > -dc);
+    CHECK(last_contact < -dc + 1.5 * v * dt);
+    CHECK(first_apart <= -dc);
+  }
+}
+
 // Reference (energy): two spheres released at rest with a small overlap delta_s = 0.05 delta0,
 // e = 1, oscillate between delta_s and delta_max, where the work of the JKR force vanishes,
 // W(a(delta_max)) = W(a(delta_s)) with the closed-form W above (delta_max ~ 1.9 delta0): the
