@@ -149,7 +149,7 @@ class Simulation {
   std::uint32_t add_wall_material(const Material& m) { return add_material_impl(m, true); }
 
   /// Sets pair properties of materials a and b explicitly (PairOverride: e, mu_s, mu_r, eta_r,
-  /// k_c, linear k_n and k_t/k_n), replacing the mixed values of docs/physics.md. a and b are
+  /// k_c, gamma, linear k_n and k_t/k_n), replacing the mixed values of docs/physics.md. a and b are
   /// particle materials, or a particle and a wall material. Fields left empty keep their
   /// value (the mix, or an earlier set_pair); materials added later do not undo it. The
   /// contact parameters are precomputed per pair, so the pair loop does not change.
