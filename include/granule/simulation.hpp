@@ -149,7 +149,7 @@ class Simulation {
   std::uint32_t add_wall_material(const Material& m) { return add_material_impl(m, true); }
 
   /// Sets pair properties of materials a and b explicitly (PairOverride: e, mu_s, mu_r, eta_r,
-  /// k_c, linear k_n and k_t/k_n), replacing the mixed values of docs/physics.md. a and b are
+  /// k_c, linear k_n and k_t/k_n, SDS k_roll), replacing the mixed values of docs/physics.md. a and b are
   /// particle materials, or a particle and a wall material. Fields left empty keep their
   /// value (the mix, or an earlier set_pair); materials added later do not undo it. The
   /// contact parameters are precomputed per pair, so the pair loop does not change.
@@ -840,7 +840,10 @@ class Simulation {
   }
 
   void initialise() {
-    if (!initialised_) check_time_step();
+    if (!initialised_) {
+      check_pair_parameters();
+      check_time_step();
+    }
     rebuild();
     update_group_velocities(time_);
     for (auto& b : bodies_) b.set_velocities(time_);
@@ -889,6 +892,16 @@ class Simulation {
       }
       list_.wall_state.swap(saved_walls);
     }
+  }
+
+  // Every pair of materials that can touch (not two wall materials) against the laws' own
+  // requirements (ContactModel::validate), naming the pair.
+  void check_pair_parameters() const {
+    for (std::uint32_t a = 0; a < materials_.size(); ++a)
+      for (std::uint32_t b = a; b < materials_.size(); ++b)
+        if (!(wall_material_[a] && wall_material_[b]))
+          Model::validate(materials_.pair(a, b),
+                          "material pair ('" + materials_[a].name + "', '" + materials_[b].name + "')");
   }
 
   void check_time_step() const {

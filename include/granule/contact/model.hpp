@@ -23,6 +23,7 @@
 #include "granule/contact/rolling/constant_torque.hpp"
 #include "granule/contact/rolling/epsd.hpp"
 #include "granule/contact/rolling/none.hpp"
+#include "granule/contact/rolling/sds.hpp"
 #include "granule/contact/tangential/incremental_coulomb.hpp"
 #include "granule/contact/tangential/none.hpp"
 #include "granule/contact/tangential/spring.hpp"
@@ -51,6 +52,12 @@ constexpr bool couples_normal() {
   } else {
     return false;
   }
+}
+/// A slot law that cannot work with some pair properties declares
+/// `static void validate(const PairMaterial&, const std::string& where)` (throws InvalidParameter).
+template <class Law>
+void validate(const PairMaterial& p, const std::string& where) {
+  if constexpr (requires { Law::validate(p, where); }) Law::validate(p, where);
 }
 template <class Law>
 constexpr bool lanes() {
@@ -109,6 +116,16 @@ struct ContactModel {
     return {Normal::make(p), Tangential::make(p), Rolling::make(p), Cohesion::make(p, thickness)};
   }
 
+  /// Refuses pair properties a slot cannot work with; the engine calls it for every pair of
+  /// materials that can touch when the run starts (make must not throw: it also runs for pairs
+  /// of wall materials, which never touch).
+  static void validate(const PairMaterial& p, const std::string& where) {
+    detail::validate<Normal>(p, where);
+    detail::validate<Tangential>(p, where);
+    detail::validate<Rolling>(p, where);
+    detail::validate<Cohesion>(p, where);
+  }
+
   template <class D>
   static ContactForce<D> evaluate(const Params& p, const ContactGeometry<D>& g, State<D>& s) {
     NormalResultOf<D> nr = Normal::eval(p.normal, g);
@@ -160,6 +177,8 @@ using HertzMindlinIncremental = ContactModel<HertzNormal, MindlinTangentialIncre
 /// Hertz-Mindlin whose normal force never pulls (LAMMPS limit_damping; normal/non_tensile.hpp).
 using HertzMindlinNonTensile = ContactModel<NonTensile<HertzNormal>, MindlinTangential>;
 using HertzMindlinEpsd = ContactModel<HertzNormal, MindlinTangential, EpsdRolling>;
+/// Hertz-Mindlin with the constant-stiffness SDS rolling law of LAMMPS (rolling/sds.hpp).
+using HertzMindlinSds = ContactModel<HertzNormal, MindlinTangential, SdsRolling>;
 using HertzMindlinEpsdSjkr = ContactModel<HertzNormal, MindlinTangential, EpsdRolling, SjkrCohesion>;
 /// Paper 002: linear normal law, incremental regularised Coulomb friction, rolling friction.
 using LinearCoulombRolling = ContactModel<LinearNormal, IncrementalCoulombTangential, EpsdRolling>;
