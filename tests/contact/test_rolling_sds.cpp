@@ -239,8 +239,18 @@ TEST_CASE("SDS rolling: parameters, mixing and the time-step limit", "[contact][
     sim.add_particle(Dim3::Vec::Zero(), 1e-3, mat);
     CHECK_NOTHROW(sim.step());
   }
-  // The rolling spring-dashpot enters the engine's rotational limit.
+  // The rolling spring-dashpot enters the engine's rotational limits. Before the first step
+  // (no contact yet): one wall contact's pure rolling mode, w^2 = K / I, zeta = C / (2 I w) with
+  // K = k_roll r^2, C = eta_r 2 sqrt(I_r K), I_r = I + m r^2, independent of the overlap; with
+  // the contact the tangential terms lower it.
   OnPlane<Dim3> op(100.0, 0.1, 0.5, 0.0, 1e-6);
+  const double m = kRho * 4.0 / 3.0 * std::numbers::pi * kR * kR * kR, inertia = 0.4 * m * kR * kR;
+  const double kr = 100.0 * kR * kR, cr = 0.5 * 2.0 * std::sqrt(1.4 * m * kR * kR * kr);
+  const double w = std::sqrt(kr / inertia), zeta = cr / (2.0 * inertia * w);
+  CHECK(op.sim->rolling_limit_estimate().limit == Approx(2.0 * (std::sqrt(1.0 + zeta * zeta) - zeta) / w).epsilon(1e-9));
   op.sim->step();
-  CHECK(std::isfinite(op.sim->rolling_stability_limit().limit));
+  const double limit = op.sim->rolling_stability_limit().limit;
+  // (Here the tangential spring, k_t a^2 = 4x K, dominates the contact's row: 0.43x the estimate.)
+  CHECK(limit < op.sim->rolling_limit_estimate().limit);
+  CHECK(limit > 0.3 * op.sim->rolling_limit_estimate().limit);
 }
