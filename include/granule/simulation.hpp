@@ -1022,7 +1022,8 @@ class Simulation {
         << "] s at step " << step_ << ": the rolling spring-dashpots of particle id " << p.id[r.particle]
         << " (" << r.contacts << " contacts, at (";
       for (int k = 0; k < D::dim; ++k) s << (k ? ", " : "") << p.x[r.particle][k];
-      s << ") m) are guaranteed stable only up to " << r.limit
+      s << ") m, material '" << materials_[p.material[r.particle]].name << "', rolling_damping eta_r = "
+        << materials_[p.material[r.particle]].rolling_damping << ") are guaranteed stable only up to " << r.limit
         << " s (rolling_stability_limit, a conservative bound). Reduce dt or rolling_damping, or set "
            "check_rolling_stability = false (or allow_large_time_step = true) to override.";
       throw InvalidParameter(s.str());

@@ -241,6 +241,7 @@ TEST_CASE("A step above the EPSD rolling limit is refused", "[contact][time_step
       CHECK(msg.find("valid range (0, ") != std::string::npos);
       CHECK(msg.find("rolling spring-dashpots of particle id") != std::string::npos);
       CHECK(msg.find("1 contacts") != std::string::npos);
+      CHECK(msg.find("rolling_damping eta_r = 2)") != std::string::npos);
     }
     RestingParticle<Dim3> ok(2.0, 1.5 * limit, true);
     CHECK_NOTHROW(ok.sim->run(100));
