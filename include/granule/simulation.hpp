@@ -68,9 +68,9 @@ struct SimulationConfig {
   /// contacts, collision time for linear ones); see docs/physics.md, "time step".
   double time_step_safety = 0.2;
   bool allow_large_time_step = false;  ///< explicit override of the time-step check
-  /// Refuse a dt above rolling_stability_limit() (EPSD rolling dashpots) when the run starts,
-  /// when dt changes and every stability_check_interval steps (allow_large_time_step also
-  /// turns it off). The limit is conservative: 0.45-0.95 of the measured onset of instability
+  /// Refuse a dt above rolling_stability_limit() (EPSD, SDS rolling dashpots) when the run
+  /// starts (before any contact: above rolling_limit_estimate()), when dt changes and every
+  /// stability_check_interval steps (allow_large_time_step also turns it off). The limit is conservative: 0.45-0.95 of the measured onset of instability
   /// for one contact, 0.56-0.59 on a settled bed (docs/physics.md, "Time step").
   bool check_rolling_stability = true;
   /// Steps between those checks; 0 = only when the run starts or dt changes.
@@ -149,7 +149,8 @@ class Simulation {
   std::uint32_t add_wall_material(const Material& m) { return add_material_impl(m, true); }
 
   /// Sets pair properties of materials a and b explicitly (PairOverride: e, mu_s, mu_r, eta_r,
-  /// k_c, gamma, linear k_n and k_t/k_n), replacing the mixed values of docs/physics.md. a and b are
+  /// k_c, gamma, linear k_n and k_t/k_n, SDS k_roll), replacing the mixed values of
+  /// docs/physics.md. a and b are
   /// particle materials, or a particle and a wall material. Fields left empty keep their
   /// value (the mix, or an earlier set_pair); materials added later do not undo it. The
   /// contact parameters are precomputed per pair, so the pair loop does not change.
@@ -593,6 +594,77 @@ class Simulation {
     return out;
   }
 
+  /// The rotational limit before any contact exists (check_rolling_time_step at the first step
+  /// when rolling_stability_limit() has no contacts yet), for models with a rolling
+  /// spring-dashpot under gravity: one contact of the smallest particle of each particle
+  /// material against every material it can touch (a wall, or the smallest particle of another
+  /// particle material), at the overlap where its normal law carries the particle's weight m |g|,
+  /// with the rolling terms of rolling_stability_limit()'s row alone (w^2 = K (a_i + sqrt(a_i a_j)),
+  /// 2 zeta w the same with C). Leaving out the tangential terms and the other contacts makes it
+  /// an upper bound of rolling_stability_limit() at that contact: a step above it is refused
+  /// surely (a particle at rest on anything carries at least its weight), one below it is
+  /// checked again once the contacts exist.
+  struct RollingEstimate {
+    double limit = std::numeric_limits<double>::infinity();  ///< [s]
+    std::uint32_t material = 0, partner = 0;  ///< the pair of materials that sets it
+    double overlap = 0.0;                     ///< the reference overlap [m]
+    double rolling_damping = 0.0;             ///< that pair's eta_r [-]
+  };
+  RollingEstimate rolling_limit_estimate() const {
+    RollingEstimate out;
+    if constexpr (kRollingDashpot) {
+      const auto& p = particles_;
+      const double grav = config_.gravity.norm();
+      if (!(grav > 0.0)) return out;
+      const std::uint32_t nm = static_cast<std::uint32_t>(materials_.size());
+      constexpr std::size_t none = std::numeric_limits<std::size_t>::max();
+      std::vector<std::size_t> smallest(nm, none);
+      for (std::size_t i = 0; i < p.owned(); ++i) {
+        if (p.motion[i] != Motion::Free) continue;
+        std::size_t& s = smallest[p.material[i]];
+        if (s == none || p.radius[i] < p.radius[s]) s = i;
+      }
+      const double k1 = D::inertia_factor + 1.0;
+      constexpr double rate_factor = kPredictDamping ? 2.0 : 1.0;
+      for (std::uint32_t a = 0; a < nm; ++a) {
+        if (smallest[a] == none) continue;
+        const std::size_t i = smallest[a];
+        for (std::uint32_t b = 0; b < nm; ++b) {
+          const bool wall = wall_material_[b];
+          if (!wall && smallest[b] == none) continue;
+          const std::size_t j = wall ? i : smallest[b];
+          contact::ContactGeometry<D> g{};
+          g.n = D::zero();
+          g.n[D::dim - 1] = 1.0;
+          g.r_i = p.radius[i];
+          g.r_j = wall ? std::numeric_limits<double>::infinity() : p.radius[j];
+          g.r_eff = wall ? g.r_i : g.r_i * g.r_j / (g.r_i + g.r_j);
+          g.m_eff = wall ? p.mass[i] : 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
+          g.i_roll = wall ? k1 * p.mass[i] * g.r_i * g.r_i
+                          : 1.0 / (p.inv_mass[i] / (k1 * g.r_i * g.r_i) + p.inv_mass[j] / (k1 * g.r_j * g.r_j));
+          g.vn = g.vn_damp = 0.0;
+          g.dt = config_.dt;
+          const Params& prm = params_[a * nm + b];
+          // The overlap that carries the weight (the elastic force rises with it): bisection.
+          double lo = 0.0, hi = g.r_i;
+          for (int it = 0; it < 100; ++it) {
+            g.overlap = 0.5 * (lo + hi);
+            (Model::NormalLaw::eval(prm.normal, g).fn_elastic < p.mass[i] * grav ? lo : hi) = g.overlap;
+          }
+          g.overlap = hi;
+          const contact::NormalResult nr = Model::NormalLaw::eval(prm.normal, g);
+          const contact::SpringDashpot roll = Model::RollingLaw::spring_dashpot(prm.rolling, g, nr);
+          const double ai = p.inv_inertia[i], aj = wall ? 0.0 : p.inv_inertia[j], row = ai + std::sqrt(ai * aj);
+          if (!(roll.stiffness * row > 0.0)) continue;
+          const double w = std::sqrt(roll.stiffness * row);
+          const double t = damped_oscillator_stability_limit(w, rate_factor * roll.damping * row / (2.0 * w));
+          if (t < out.limit) out = {t, a, b, g.overlap, materials_.pair(a, b).rolling_damping};
+        }
+      }
+    }
+    return out;
+  }
+
   /// A self-contained snapshot for analysis and output (contacts only if they were recorded at
   /// the current step: call request_contacts() before the step, record_contacts_every_step(),
   /// or register the observer with needs_contacts = true).
@@ -842,7 +914,10 @@ class Simulation {
   }
 
   void initialise() {
-    if (!initialised_) check_time_step();
+    if (!initialised_) {
+      check_pair_parameters();
+      check_time_step();
+    }
     rebuild();
     update_group_velocities(time_);
     for (auto& b : bodies_) b.set_velocities(time_);
@@ -893,6 +968,16 @@ class Simulation {
     }
   }
 
+  // Every pair of materials that can touch (not two wall materials) against the laws' own
+  // requirements (ContactModel::validate), naming the pair.
+  void check_pair_parameters() const {
+    for (std::uint32_t a = 0; a < materials_.size(); ++a)
+      for (std::uint32_t b = a; b < materials_.size(); ++b)
+        if (!(wall_material_[a] && wall_material_[b]))
+          Model::validate(materials_.pair(a, b),
+                          "material pair ('" + materials_[a].name + "', '" + materials_[b].name + "')");
+  }
+
   void check_time_step() const {
     if (config_.allow_large_time_step || particles_.owned() == 0) return;
     const double tc = critical_time_step();
@@ -918,15 +1003,30 @@ class Simulation {
     if constexpr (kRollingDashpot) {
       if (config_.allow_large_time_step || !config_.check_rolling_stability) return;
       const RollingLimit r = rolling_stability_limit();
-      if (config_.dt <= r.limit) return;
-      const auto& p = particles_;
       std::ostringstream s;
       s.precision(6);
+      if (r.contacts == 0 && step_ == 0) {
+        // No contact yet: the a-priori bound of the materials and the smallest particles.
+        const RollingEstimate e = rolling_limit_estimate();
+        if (config_.dt <= e.limit) return;
+        s << "SimulationConfig: dt = " << config_.dt << " s is outside the valid range (0, " << e.limit
+          << "] s before the first step: the rolling spring-dashpot of material '" << materials_[e.material].name
+          << "' against '" << materials_[e.partner].name << "' (rolling_damping eta_r = " << e.rolling_damping
+          << ", smallest particle at the overlap " << e.overlap
+          << " m that carries its weight) is stable only up to " << e.limit
+          << " s even with this one contact (rolling_limit_estimate; a bed of contacts needs less). Reduce dt or "
+             "rolling_damping (or the rolling stiffness), or set check_rolling_stability = false (or "
+             "allow_large_time_step = true) to override.";
+        throw InvalidParameter(s.str());
+      }
+      if (config_.dt <= r.limit) return;
+      const auto& p = particles_;
       s << "SimulationConfig: dt = " << config_.dt << " s is outside the valid range (0, " << r.limit
         << "] s at step " << step_ << ": the rolling spring-dashpots of particle id " << p.id[r.particle]
         << " (" << r.contacts << " contacts, at (";
       for (int k = 0; k < D::dim; ++k) s << (k ? ", " : "") << p.x[r.particle][k];
-      s << ") m) are guaranteed stable only up to " << r.limit
+      s << ") m, material '" << materials_[p.material[r.particle]].name << "', rolling_damping eta_r = "
+        << materials_[p.material[r.particle]].rolling_damping << ") are guaranteed stable only up to " << r.limit
         << " s (rolling_stability_limit, a conservative bound). Reduce dt or rolling_damping, or set "
            "check_rolling_stability = false (or allow_large_time_step = true) to override.";
       throw InvalidParameter(s.str());

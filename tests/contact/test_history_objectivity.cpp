@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <tuple>
 
 #include <Eigen/Geometry>
 
@@ -253,4 +254,42 @@ TEST_CASE("EPSD rolling torque history is objective under rigid rotation", "[con
     check(rotate_loaded_epsd(angle, Eigen::Vector3d::UnitZ(), 1000), 2e-3);
   }
   SECTION("about an oblique axis") { check(rotate_loaded_epsd(angle, Eigen::Vector3d(0.6, 0.0, 0.8), 1000), 2e-3); }
+}
+
+// Reference: the same for the SDS rolling angle (rolling/sds.hpp): theta lies in the tangent
+// plane and is carried like EPSD's rolling part, so under a rigid rotation R of the pair it must
+// become R theta0, with the tolerances of the EPSD test above (about n exact to rounding; tilts
+// first order in the step angle).
+TEST_CASE("SDS rolling angle is objective under rigid rotation", "[contact][objectivity][rolling][sds]") {
+  using D = Dim3;
+  using Vec = D::Vec;
+  using Model = contact::HertzMindlinSds;
+  Material mat = spring_material();
+  mat.rolling_friction = 0.5;
+  mat.rolling_stiffness = 10.0;  // [N/m]; K theta stays far below mu_r R* |F_n|
+  const auto prm = Model::make(mix(mat, mat));
+  const double r = 2.0e-3, m = 8.0e-5, overlap = 2.0e-5, d = 2.0 * r - overlap;
+  const Vec xi0 = 0.5 * d * Vec::UnitX();
+  const Vec w_load(0.4, 1.0, 0.5);  // [rad/s]
+  for (const auto& [axis, steps, tol] : {std::tuple{Vec(Vec::UnitX()), 20, 1e-9}, std::tuple{Vec(Vec::UnitZ()), 1000, 2e-3},
+                                         std::tuple{Vec(0.6, 0.0, 0.8), 1000, 2e-3}}) {
+    Model::State<D> st{};
+    const auto gl = make_pair_geometry<D>(xi0, Vec(-xi0), r, r, m, m, Vec::Zero(), Vec::Zero(), w_load, Vec(-w_load),
+                                          1.0e-6);
+    for (int k = 0; k < 20; ++k) Model::evaluate(prm, gl, st);
+    const Vec theta0 = st.rolling.theta;
+    REQUIRE(theta0.norm() > 0.0);
+    REQUIRE(std::abs(theta0.dot(Vec::UnitX())) <= 1e-12 * theta0.norm());  // in the tangent plane
+    const double angle = std::numbers::pi / 2.0, omega = 10.0, dt = angle / (steps * omega);
+    const Vec w = omega * axis;
+    for (int k = 1; k <= steps; ++k) {
+      const Vec xi = Eigen::AngleAxisd(k * angle / steps, axis).toRotationMatrix() * xi0, xj = -xi;
+      Model::evaluate(prm, make_pair_geometry<D>(xi, xj, r, r, m, m, w.cross(xi), w.cross(xj), w, w, dt), st);
+    }
+    const Vec expected = Eigen::AngleAxisd(angle, axis) * theta0;
+    INFO("axis " << axis.transpose() << ": theta0 " << theta0.transpose() << ", theta " << st.rolling.theta.transpose()
+                 << ", R theta0 " << expected.transpose());
+    CHECK(st.rolling.theta.norm() == Approx(theta0.norm()).epsilon(1e-10));
+    CHECK((st.rolling.theta - expected).norm() <= tol * theta0.norm());
+  }
 }

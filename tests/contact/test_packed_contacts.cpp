@@ -122,6 +122,11 @@ StoredState<Model> random_state(std::mt19937_64& rng, const contact::ContactGeom
     s.rolling.m_twist = m.dot(g.n);
     s.rolling.m_roll = m - s.rolling.m_twist * g.n;
   }
+  if constexpr (requires { s.rolling.theta; }) {  // SDS rolling angle, up to twice the limit
+    const Eigen::Vector3d t = random_unit(rng);
+    const double kr = contact::SdsRolling::stiffness(prm.rolling, g.r_eff);
+    s.rolling.theta = uniform(rng, 0.0, 2.0) * prm.rolling.mu_r * g.r_eff * fn / kr * (t - t.dot(g.n) * g.n).normalized();
+  }
   return s;
 }
 
@@ -146,6 +151,7 @@ Material test_material(double youngs_modulus, double rolling_friction, double co
   m.rolling_damping = 0.3;
   m.cohesion_energy_density = cohesion;  // [J/m^3]
   m.normal_stiffness = 1e4;              // [N/m] (linear laws)
+  m.rolling_stiffness = 50.0;            // [N/m] (SDS rolling)
   return m;
 }
 
@@ -202,6 +208,13 @@ void check_packed_against_scalar(double dt, std::uint64_t seed) {
       const auto gs = scalar_geometry<Model>(inputs[c], dt);
       StoredState<Model> ss = states[c];
       const auto before = state_doubles<Model>(ss);
+      if constexpr (requires { ss.rolling.theta; }) {  // the SDS slider holds |M| at its limit
+        auto probe = ss.rolling;
+        const auto nr = Model::NormalLaw::eval(prm.normal, gs);
+        const double mmax = prm.rolling.mu_r * gs.r_eff * std::abs(nr.fn);
+        if (contact::SdsRolling::eval(prm.rolling, gs, nr, probe).norm() >= (1.0 - 1e-12) * mmax && mmax > 0.0)
+          ++mobilised;
+      }
       const auto cs = Model::evaluate(prm, gs, ss);
       // Which branches this contact took (so the test proves it covered them).
       if constexpr (requires { ss.tangential.fs; }) {
@@ -266,7 +279,8 @@ void check_packed_against_scalar(double dt, std::uint64_t seed) {
     }
     CHECK(fresh >= 3);
   }
-  if constexpr (requires(StoredState<Model> s) { s.rolling.m_roll; }) {
+  if constexpr (requires(StoredState<Model> s) { s.rolling.m_roll; } ||
+                requires(StoredState<Model> s) { s.rolling.theta; }) {
     if (dt > 0.0) {
       CHECK(mobilised >= 3);
       CHECK(mobilised + 3 <= chunk->count);
@@ -536,7 +550,7 @@ TEST_CASE("The touch scan lists a layer's touching entries and moves slots in en
 TEMPLATE_TEST_CASE("Packed contact evaluation equals the one-at-a-time evaluation", "[contact][packed]",
                    contact::LinearFrictionless, contact::HertzFrictionless, contact::HertzMindlin,
                    contact::HertzMindlinIncremental, contact::HertzMindlinNonTensile, contact::HertzMindlinEpsd,
-                   contact::HertzMindlinEpsdSjkr) {
+                   contact::HertzMindlinEpsdSjkr, contact::HertzMindlinSds) {
   STATIC_REQUIRE(TestType::lanes);
   SECTION("a step of 1 us") { check_packed_against_scalar<TestType>(1e-6, 11); }
   SECTION("a step of 20 us (large increments)") { check_packed_against_scalar<TestType>(2e-5, 12); }

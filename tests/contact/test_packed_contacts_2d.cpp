@@ -115,6 +115,10 @@ Stored<Model> random_state(std::mt19937_64& rng, const contact::ContactGeometry<
   if constexpr (requires { s.rolling.m_roll; }) {
     s.rolling.m_roll = uniform(rng, -2.0, 2.0) * prm.rolling.mu_r * g.r_eff * fn;
   }
+  if constexpr (requires { s.rolling.theta; }) {  // SDS rolling angle, up to twice the limit
+    s.rolling.theta = uniform(rng, -2.0, 2.0) * prm.rolling.mu_r * g.r_eff * fn /
+                      contact::SdsRolling::stiffness(prm.rolling, g.r_eff);
+  }
   return s;
 }
 
@@ -141,6 +145,7 @@ Material disk_material() {
   m.rolling_friction = 0.02;
   m.rolling_stiffness_factor = 40.0;
   m.rolling_damping = 0.3;
+  m.rolling_stiffness = 20.0;  // [N/m] (SDS rolling)
   m.reference_length = 3e-3;  // [m] (linear laws: k_n = E d)
   m.tangential_stiffness_ratio = 0.5;
   return m;
@@ -195,6 +200,13 @@ void check_packed_against_scalar(double dt, std::uint64_t seed) {
       INFO("contact " << c);
       const auto gs = scalar_geometry<Model>(pairs[c], dt);
       Stored<Model> ss = states[c];
+      if constexpr (requires { ss.rolling.theta; }) {  // the SDS slider holds |M| at its limit
+        auto probe = ss.rolling;
+        const auto nr = Model::NormalLaw::eval(prm.normal, gs);
+        const double mmax = prm.rolling.mu_r * gs.r_eff * std::abs(nr.fn);
+        if (std::abs(contact::SdsRolling::eval(prm.rolling, gs, nr, probe)) >= (1.0 - 1e-12) * mmax && mmax > 0.0)
+          ++mobilised;
+      }
       const auto cs = Model::evaluate(prm, gs, ss);
       if (cs.ft.norm() > (1.0 - 1e-12) * m.friction * std::abs(cs.fn) && cs.fn > 0.0) ++sliding;
       if constexpr (requires { ss.rolling.m_roll; }) {
@@ -220,7 +232,7 @@ void check_packed_against_scalar(double dt, std::uint64_t seed) {
     // Both sides of each limit were exercised.
     CHECK(sliding >= 3);
     CHECK(sliding + 3 <= chunk->count);
-    if constexpr (requires(Stored<Model> s) { s.rolling.m_roll; }) {
+    if constexpr (requires(Stored<Model> s) { s.rolling.m_roll; } || requires(Stored<Model> s) { s.rolling.theta; }) {
       CHECK(mobilised >= 3);
       CHECK(mobilised + 3 <= chunk->count);
     }
@@ -288,7 +300,7 @@ BedRun run_bed(bool packed) {
 
 TEMPLATE_TEST_CASE("Packed 2D contact evaluation equals the one-at-a-time evaluation", "[contact][packed][2d]",
                    contact::LinearCoulombRolling, contact::HertzMindlin, contact::LinearFrictionless,
-                   contact::HertzMindlinEpsd, contact::HertzMindlinIncremental) {
+                   contact::HertzMindlinEpsd, contact::HertzMindlinIncremental, contact::HertzMindlinSds) {
   STATIC_REQUIRE(TestType::lanes);
   STATIC_REQUIRE(Simulation<Dim2, TestType>::kPackable);
   SECTION("a step of 1 us") { packed2d_test::check_packed_against_scalar<TestType>(1e-6, 31); }

@@ -241,6 +241,7 @@ TEST_CASE("A step above the EPSD rolling limit is refused", "[contact][time_step
       CHECK(msg.find("valid range (0, ") != std::string::npos);
       CHECK(msg.find("rolling spring-dashpots of particle id") != std::string::npos);
       CHECK(msg.find("1 contacts") != std::string::npos);
+      CHECK(msg.find("rolling_damping eta_r = 2)") != std::string::npos);
     }
     RestingParticle<Dim3> ok(2.0, 1.5 * limit, true);
     CHECK_NOTHROW(ok.sim->run(100));
@@ -248,10 +249,12 @@ TEST_CASE("A step above the EPSD rolling limit is refused", "[contact][time_step
     CHECK_NOTHROW(fine.sim->run(100));
   }
   {
-    // Dropped from 0.1 mm: no contact at the start (the start check passes), a contact after
-    // ~1.4 ms (27 steps); checked every 10 steps, the run stops within 10 steps of the
-    // landing (the particle bounces, e = 0.5, but stays in contact for ~10 steps).
-    RestingParticle<Dim3> drop(2.0, 1.5 * limit, false, 10, 1e-4);
+    // Dropped from 0.1 mm at 1.1x the limit: no contact at the start, and 1.1x is below the
+    // a-priori estimate (rolling_limit_estimate, 1/0.871 = 1.148x here: one contact without the
+    // tangential terms), so the start check passes; a contact after ~1.4 ms; checked every 10
+    // steps, the run stops within 10 steps of the landing (the particle bounces, e = 0.5, but
+    // stays in contact for ~10 steps).
+    RestingParticle<Dim3> drop(2.0, 1.1 * limit, false, 10, 1e-4);
     std::uint64_t landed = 0;
     bool refused = false;
     try {
@@ -267,8 +270,33 @@ TEST_CASE("A step above the EPSD rolling limit is refused", "[contact][time_step
     CHECK(landed > 0);
     CHECK(drop.sim->step_count() <= landed + 10);
     // Without the periodic check the same run goes on.
-    RestingParticle<Dim3> unchecked(2.0, 1.5 * limit, false, 0, 1e-4);
+    RestingParticle<Dim3> unchecked(2.0, 1.1 * limit, false, 0, 1e-4);
     CHECK_NOTHROW(unchecked.sim->run(20000));
+  }
+  {
+    // At 1.5x the limit the same drop is refused before the first step, from the materials
+    // alone, naming dt, the limit and eta_r. The estimate is the pure rolling mode of one wall
+    // contact at the weight's overlap: w^2 = k_r / I, zeta = eta_r sqrt(I_r / I) -- the twisting
+    // onset computed by hand in the first test case, 3.5356e-5 s.
+    RestingParticle<Dim3> drop(2.0, 1.5 * limit, false, 10, 1e-4);
+    CHECK(drop.sim->contact_count() == 0);
+    try {
+      drop.sim->step();
+      FAIL("dt above the a-priori rolling limit was accepted");
+    } catch (const InvalidParameter& e) {
+      const std::string msg = e.what();
+      INFO(msg);
+      CHECK(drop.sim->step_count() == 0);
+      CHECK(msg.find("dt = ") != std::string::npos);
+      CHECK(msg.find("before the first step") != std::string::npos);
+      CHECK(msg.find("rolling_damping eta_r = 2") != std::string::npos);
+      CHECK(msg.find("Reduce dt or rolling_damping") != std::string::npos);
+    }
+    const auto e = drop.sim->rolling_limit_estimate();
+    CHECK(e.limit > limit);
+    CHECK(e.limit == Approx(3.5356e-5).epsilon(1e-4));
+    CHECK(e.overlap == Approx(drop.overlap).epsilon(1e-6));
+    CHECK(e.rolling_damping == 2.0);
   }
 }
 

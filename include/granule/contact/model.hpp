@@ -25,6 +25,7 @@
 #include "granule/contact/rolling/constant_torque.hpp"
 #include "granule/contact/rolling/epsd.hpp"
 #include "granule/contact/rolling/none.hpp"
+#include "granule/contact/rolling/sds.hpp"
 #include "granule/contact/tangential/incremental_coulomb.hpp"
 #include "granule/contact/tangential/none.hpp"
 #include "granule/contact/tangential/spring.hpp"
@@ -70,6 +71,12 @@ struct Formed {
 };
 /// (Not NoState: two members of one empty type would take a byte.)
 struct NotTensile {};
+/// A slot law that cannot work with some pair properties declares
+/// `static void validate(const PairMaterial&, const std::string& where)` (throws InvalidParameter).
+template <class Law>
+void validate(const PairMaterial& p, const std::string& where) {
+  if constexpr (requires { Law::validate(p, where); }) Law::validate(p, where);
+}
 template <class Law>
 constexpr bool lanes() {
   if constexpr (requires { Law::lanes; }) {
@@ -141,6 +148,15 @@ struct ContactModel {
       return 0.0;
     }
   }
+  /// Refuses pair properties a slot cannot work with; the engine calls it for every pair of
+  /// materials that can touch when the run starts (make must not throw: it also runs for pairs
+  /// of wall materials, which never touch).
+  static void validate(const PairMaterial& p, const std::string& where) {
+    detail::validate<Normal>(p, where);
+    detail::validate<Tangential>(p, where);
+    detail::validate<Rolling>(p, where);
+    detail::validate<Cohesion>(p, where);
+  }
 
   template <class D>
   static ContactForce<D> evaluate(const Params& p, const ContactGeometry<D>& g, State<D>& s) {
@@ -211,6 +227,8 @@ using HertzMindlinIncremental = ContactModel<HertzNormal, MindlinTangentialIncre
 /// Hertz-Mindlin whose normal force never pulls (LAMMPS limit_damping; normal/non_tensile.hpp).
 using HertzMindlinNonTensile = ContactModel<NonTensile<HertzNormal>, MindlinTangential>;
 using HertzMindlinEpsd = ContactModel<HertzNormal, MindlinTangential, EpsdRolling>;
+/// Hertz-Mindlin with the constant-stiffness SDS rolling law of LAMMPS (rolling/sds.hpp).
+using HertzMindlinSds = ContactModel<HertzNormal, MindlinTangential, SdsRolling>;
 using HertzMindlinEpsdSjkr = ContactModel<HertzNormal, MindlinTangential, EpsdRolling, SjkrCohesion>;
 /// Hertz-Mindlin with JKR adhesion and its hysteresis (cohesion/jkr.hpp; scalar pair loop).
 using HertzMindlinJkr = ContactModel<HertzNormal, MindlinTangential, NoRolling, JkrCohesion>;

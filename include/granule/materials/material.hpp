@@ -31,6 +31,10 @@ struct Material {
   /// EPSD rolling stiffness factor c in k_r = c k_n mu_r^2 R*^2 [-]. Ai et al. (2011) eq. 13
   /// give 2.25; paper 001 eq. A14 prints 2.55 (see docs/physics.md).
   double rolling_stiffness_factor = 2.25;
+  /// SDS rolling law only (contact/rolling/sds.hpp): k_roll [N/m], the rolling spring as a
+  /// force on the rolling displacement R* theta (torque stiffness k_roll R*^2), as LAMMPS'
+  /// `rolling sds`. 0 = not set; a model with SdsRolling refuses a pair with mu_r > 0 and k_roll 0.
+  double rolling_stiffness = 0.0;
   /// Walls only: an infinitely stiff material. It adds nothing to 1/E* and 1/G* (its E and nu
   /// are not used), and a pair with it takes the particle's e, mu_s, mu_r, eta_r, k_c and
   /// linear stiffness instead of their means (pair_material.hpp); set_pair can override them.
@@ -80,6 +84,8 @@ struct Material {
             "tangential_stiffness_ratio", tangential_stiffness_ratio, "(0, inf)");
     require(rolling_stiffness_factor > 0.0 && std::isfinite(rolling_stiffness_factor), where,
             "rolling_stiffness_factor", rolling_stiffness_factor, "(0, inf)");
+    require(rolling_stiffness >= 0.0 && std::isfinite(rolling_stiffness), where, "rolling_stiffness",
+            rolling_stiffness, "[0, inf) N/m");
   }
 
   /// Shear modulus G = E / (2 (1 + nu)) [Pa].

@@ -34,6 +34,7 @@ struct PairMaterial {
   double k_n_linear = 0.0;          ///< linear normal stiffness [N/m]
   double kt_ratio = 2.0 / 7.0;      ///< linear tangential stiffness ratio k_t/k_n [-]
   double rolling_stiffness_factor = 2.25;  ///< EPSD k_r factor [-]
+  double k_roll = 0.0;              ///< SDS rolling spring [N/m]
 
   /// beta = ln e / sqrt(ln^2 e + pi^2) (000 eq. B7, 001 eq. A5); beta = 0 for e = 1.
   double beta() const {
@@ -67,6 +68,7 @@ inline PairMaterial mix(const Material& a, const Material& b) {
     p.k_n_linear = 2.0 * s.linear_normal_stiffness();
     p.kt_ratio = s.tangential_stiffness_ratio;
     p.rolling_stiffness_factor = s.rolling_stiffness_factor;
+    p.k_roll = s.rolling_stiffness;
     return p;
   }
   p.restitution = 0.5 * (a.restitution + b.restitution);
@@ -83,6 +85,11 @@ inline PairMaterial mix(const Material& a, const Material& b) {
   p.k_n_linear = (ka > 0.0 && kb > 0.0) ? 2.0 * ka * kb / (ka + kb) : std::max(ka, kb);
   p.kt_ratio = 0.5 * (a.tangential_stiffness_ratio + b.tangential_stiffness_ratio);
   p.rolling_stiffness_factor = 0.5 * (a.rolling_stiffness_factor + b.rolling_stiffness_factor);
+  // SDS rolling spring: the two materials' springs in series, 2 k_a k_b / (k_a + k_b) (like
+  // materials keep their k_roll; one side 0 leaves the other's). Against a rigid wall the
+  // particle's k_roll, as a LAMMPS wall takes the pair coefficient.
+  const double ra = a.rolling_stiffness, rb = b.rolling_stiffness;
+  p.k_roll = (ra > 0.0 && rb > 0.0) ? 2.0 * ra * rb / (ra + rb) : std::max(ra, rb);
   return p;
 }
 
@@ -98,6 +105,7 @@ struct PairOverride {
   std::optional<double> surface_energy;           ///< gamma [J/m^2], [0, inf) (w = 2 gamma)
   std::optional<double> linear_normal_stiffness;  ///< k_n of the linear laws [N/m], (0, inf)
   std::optional<double> tangential_stiffness_ratio;  ///< k_t / k_n of the linear laws [-], (0, inf)
+  std::optional<double> rolling_stiffness;        ///< k_roll of the SDS rolling law [N/m], (0, inf)
 
   /// Throws InvalidParameter naming the field, value and valid range.
   void validate(const std::string& where) const {
@@ -113,6 +121,7 @@ struct PairOverride {
     check(surface_energy, "surface_energy", true, "[0, inf) J/m^2");
     check(linear_normal_stiffness, "linear_normal_stiffness", false, "(0, inf) N/m");
     check(tangential_stiffness_ratio, "tangential_stiffness_ratio", false, "(0, inf)");
+    check(rolling_stiffness, "rolling_stiffness", false, "(0, inf) N/m");
   }
 
   /// `p` with the fields that are set replaced.
@@ -125,6 +134,7 @@ struct PairOverride {
     p.surface_energy = surface_energy.value_or(p.surface_energy);
     p.k_n_linear = linear_normal_stiffness.value_or(p.k_n_linear);
     p.kt_ratio = tangential_stiffness_ratio.value_or(p.kt_ratio);
+    p.k_roll = rolling_stiffness.value_or(p.k_roll);
     return p;
   }
 };
