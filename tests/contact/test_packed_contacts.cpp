@@ -359,14 +359,15 @@ ColumnResult run_column(bool packed, std::size_t steps, bool two_materials = fal
   return out;
 }
 
-/// Two runs of the column agree to amplified rounding: contact count, positions to 1e-7 kPackedR,
-/// velocities to 1e-7 of the largest speed. Rounding is amplified in jumps, not smoothly: with
+/// Two runs of the column agree to amplified rounding: contact count, positions to 1e-6 kPackedR,
+/// velocities to 1e-5 of the largest speed. Rounding is amplified in jumps, not smoothly: with
 /// Truncation::Total a contact that starts to slide has its spring relaxed towards the dashpot's
 /// share (tangential/spring.hpp), so a rounding-level difference at the stick/slip threshold
 /// moves the spring by a finite step. Measured for the default Hertz-Mindlin (e = 0.5): velocity
-/// differences of 1e-13 of the speed up to step 55, then jumps at steps 60 and 90 to 1.5e-8; with
-/// e = 1 (no dashpot) 1.2e-12 after 150 steps; the force history with the unloading rescale
-/// happened to meet no such switch (5e-13). A real difference between the packed and the scalar
+/// differences of 1e-13 of the speed up to step 55, then jumps at steps 60 and 90 to 1.5e-8
+/// (2.4e-7 in the -march=native build, whose FMA contractions differ between the two paths);
+/// with e = 1 (no dashpot) 1.2e-12 after 150 steps; the force history with the unloading
+/// rescale happened to meet no such switch (5e-13). A real difference between the packed and the scalar
 /// law (a term missing in one of them, a history slot scattered wrongly) is of the order of the
 /// contact forces' share of the motion, 1e-3 and more.
 void check_same_run(const ColumnResult& a, const ColumnResult& b) {
@@ -378,8 +379,8 @@ void check_same_run(const ColumnResult& a, const ColumnResult& b) {
     vmax = std::max(vmax, a.v[k].norm());
   }
   INFO("max position difference " << dx << " m, velocity " << dv << " m/s (max speed " << vmax << ")");
-  CHECK(dx < 1e-7 * kPackedR);
-  CHECK(dv < 1e-7 * vmax);
+  CHECK(dx < 1e-6 * kPackedR);
+  CHECK(dv < 1e-5 * vmax);
 }
 
 }  // namespace
@@ -584,8 +585,8 @@ TEMPLATE_TEST_CASE("A packed run follows the one-at-a-time run", "[contact][pack
   INFO("lid force " << one.lid_force.transpose() << " N (packed " << packed.lid_force.transpose() << "), torque "
                     << one.lid_torque.transpose() << " N m (packed " << packed.lid_torque.transpose() << ")");
   REQUIRE(one.lid_force.z() > 0.0);  // the sinking lid presses on the column
-  CHECK((packed.lid_force - one.lid_force).norm() < 1e-7 * one.lid_force.norm());
-  CHECK((packed.lid_torque - one.lid_torque).norm() < 1e-7 * one.lid_torque.norm());
+  CHECK((packed.lid_force - one.lid_force).norm() < 1e-5 * one.lid_force.norm());
+  CHECK((packed.lid_torque - one.lid_torque).norm() < 1e-5 * one.lid_torque.norm());
 }
 
 TEMPLATE_TEST_CASE("Plane walls and a box container of the same faces give the same run",
