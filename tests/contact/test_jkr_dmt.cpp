@@ -17,9 +17,9 @@ using namespace granule::contact_test;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kR = 1.0e-3;             // particle radius [m]
-constexpr double kRstar = 0.5 * kR;       // R* of two equal spheres [m]
+constexpr double kPiJkr = std::numbers::pi;
+constexpr double kRJkr = 1.0e-3;             // particle radius [m]
+constexpr double kRstar = 0.5 * kRJkr;       // R* of two equal spheres [m]
 constexpr double kGamma = 0.05;           // surface energy [J/m^2]
 constexpr double kW = 2.0 * kGamma;       // work of adhesion [J/m^2]
 
@@ -42,21 +42,21 @@ double e_star() {
 contact::JkrCohesion::Params jkr_params() { return {kW, e_star()}; }
 
 // delta(a) of JKR, written out independently of the law.
-double jkr_delta(double a) { return a * a / kRstar - std::sqrt(2.0 * kPi * kW * a / e_star()); }
+double jkr_delta(double a) { return a * a / kRstar - std::sqrt(2.0 * kPiJkr * kW * a / e_star()); }
 double jkr_force(double a) {
-  return 4.0 * e_star() * a * a * a / (3.0 * kRstar) - std::sqrt(8.0 * kPi * kW * e_star() * a * a * a);
+  return 4.0 * e_star() * a * a * a / (3.0 * kRstar) - std::sqrt(8.0 * kPiJkr * kW * e_star() * a * a * a);
 }
 // Zero-load radius a0^3 = 9 pi w R*^2 / (2 E*), break radius a_c^3 = pi w R*^2 / (8 E*).
-double jkr_a0() { return std::cbrt(9.0 * kPi * kW * kRstar * kRstar / (2.0 * e_star())); }
-double jkr_ac() { return std::cbrt(kPi * kW * kRstar * kRstar / (8.0 * e_star())); }
+double jkr_a0() { return std::cbrt(9.0 * kPiJkr * kW * kRstar * kRstar / (2.0 * e_star())); }
+double jkr_ac() { return std::cbrt(kPiJkr * kW * kRstar * kRstar / (8.0 * e_star())); }
 
 // Work done by the contact force from a1 to a2, int F(a) delta'(a) da, in closed form: with
 // F = A a^3 - B a^3/2 and delta' = 2 a / R* - C a^-1/2 / 2 (A = 4 E*/(3 R*), B = sqrt(8 pi w E*),
 // C = sqrt(2 pi w / E*)), the antiderivative is
 //   2A/(5R*) a^5 - (2/7)(A C / 2 + 2 B / R*) a^7/2 + B C / 4 a^2.
 double jkr_work(double a) {
-  const double A = 4.0 * e_star() / (3.0 * kRstar), B = std::sqrt(8.0 * kPi * kW * e_star()),
-               C = std::sqrt(2.0 * kPi * kW / e_star());
+  const double A = 4.0 * e_star() / (3.0 * kRstar), B = std::sqrt(8.0 * kPiJkr * kW * e_star()),
+               C = std::sqrt(2.0 * kPiJkr * kW / e_star());
   return 2.0 * A / (5.0 * kRstar) * std::pow(a, 5) - 2.0 / 7.0 * (0.5 * A * C + 2.0 * B / kRstar) * std::pow(a, 3.5) +
          0.25 * B * C * a * a;
 }
@@ -69,9 +69,9 @@ struct Pair {
     Material m = adhesive_material();
     m.restitution = restitution;
     const auto pm = sim.add_material(m);
-    const double h = kR - 0.5 * overlap0;
-    sim.add_particle(Eigen::Vector3d(h, 0.0, 0.0), kR, pm, Eigen::Vector3d(0.5 * v_sep, 0.0, 0.0));
-    sim.add_particle(Eigen::Vector3d(-h, 0.0, 0.0), kR, pm, Eigen::Vector3d(-0.5 * v_sep, 0.0, 0.0));
+    const double h = kRJkr - 0.5 * overlap0;
+    sim.add_particle(Eigen::Vector3d(h, 0.0, 0.0), kRJkr, pm, Eigen::Vector3d(0.5 * v_sep, 0.0, 0.0));
+    sim.add_particle(Eigen::Vector3d(-h, 0.0, 0.0), kRJkr, pm, Eigen::Vector3d(-0.5 * v_sep, 0.0, 0.0));
   }
   static SimulationConfig<Dim3> config(double skin) {
     SimulationConfig<Dim3> cfg;
@@ -83,7 +83,7 @@ struct Pair {
   }
   double overlap() const {
     const auto& p = sim.particles();
-    return 2.0 * kR - (p.x[sim.index_of(0)] - p.x[sim.index_of(1)]).norm();
+    return 2.0 * kRJkr - (p.x[sim.index_of(0)] - p.x[sim.index_of(1)]).norm();
   }
   /// Normal force on particle 0 (repulsive > 0) [N].
   double fn() const {
@@ -102,11 +102,11 @@ struct Pair {
 TEST_CASE("JKR law: pull-off force, break separation, zero-load overlap", "[contact][cohesion][jkr]") {
   const auto p = jkr_params();
   const double ac = jkr_ac(), a0 = jkr_a0();
-  const double dc = 0.75 * std::cbrt(kPi * kPi * kW * kW * kRstar / (e_star() * e_star()));
+  const double dc = 0.75 * std::cbrt(kPiJkr * kPiJkr * kW * kW * kRstar / (e_star() * e_star()));
   CHECK(contact::JkrCohesion::separation(p, kRstar) == Approx(dc).epsilon(1e-14));
   CHECK(jkr_delta(ac) == Approx(-dc).epsilon(1e-12));
-  CHECK(jkr_force(ac) == Approx(-5.0 / 6.0 * kPi * kW * kRstar).epsilon(1e-12));
-  CHECK(contact::JkrCohesion::force(p, a0, kRstar) == Approx(0.0).margin(1e-12 * kPi * kW * kRstar));
+  CHECK(jkr_force(ac) == Approx(-5.0 / 6.0 * kPiJkr * kW * kRstar).epsilon(1e-12));
+  CHECK(contact::JkrCohesion::force(p, a0, kRstar) == Approx(0.0).margin(1e-12 * kPiJkr * kW * kRstar));
   CHECK(jkr_delta(a0) == Approx(a0 * a0 / (3.0 * kRstar)).epsilon(1e-12));
   // Zero load through the law: the inverted radius at delta0 is a0 and the pull cancels Hertz.
   const double delta0 = a0 * a0 / (3.0 * kRstar);
@@ -124,7 +124,7 @@ TEST_CASE("JKR law: pull-off force, break separation, zero-load overlap", "[cont
   }
   const double a_pf = a0 / std::cbrt(4.0);
   INFO("pull-off " << f_min << " N at delta = " << d_at << " m; delta_c = " << dc << ", delta0 = " << delta0);
-  CHECK(f_min == Approx(-1.5 * kPi * kW * kRstar).epsilon(1e-9));
+  CHECK(f_min == Approx(-1.5 * kPiJkr * kW * kRstar).epsilon(1e-9));
   CHECK(d_at == Approx(-a_pf * a_pf / (3.0 * kRstar)).epsilon(1e-3));
 }
 
@@ -170,7 +170,7 @@ TEST_CASE("JKR engine: contact forms at touch and breaks at -delta_c", "[contact
           REQUIRE(pr.sim.contact_count() == 1);
           const double f = contact::JkrCohesion::force(p, contact::JkrCohesion::contact_radius(p, pr.overlap(), kRstar), kRstar);
           CHECK(pr.fn() == Approx(f).epsilon(1e-9));
-          CHECK(pr.fn() == Approx(-4.0 / 3.0 * kPi * kW * kRstar).epsilon(0.05));
+          CHECK(pr.fn() == Approx(-4.0 / 3.0 * kPiJkr * kW * kRstar).epsilon(0.05));
         }
       }
       CHECK(touched);
@@ -207,8 +207,8 @@ TEST_CASE("JKR engine: contact forms at touch and breaks at -delta_c", "[contact
 TEST_CASE("JKR engine: a sphere pulled off a wall breaks at -delta_c", "[contact][cohesion][jkr]") {
   const Material m = adhesive_material();
   const contact::JkrCohesion::Params p{kW, m.youngs_modulus / (1.0 - m.poisson_ratio * m.poisson_ratio)};
-  const double dc = 0.75 * std::cbrt(kPi * kPi * kW * kW * kR / (p.E_eff * p.E_eff));
-  const double a0 = std::cbrt(9.0 * kPi * kW * kR * kR / (2.0 * p.E_eff)), delta0 = a0 * a0 / (3.0 * kR);
+  const double dc = 0.75 * std::cbrt(kPiJkr * kPiJkr * kW * kW * kRJkr / (p.E_eff * p.E_eff));
+  const double a0 = std::cbrt(9.0 * kPiJkr * kW * kRJkr * kRJkr / (2.0 * p.E_eff)), delta0 = a0 * a0 / (3.0 * kRJkr);
   const double v = 0.1, dt = 1.0e-6;
   for (const bool plane : {true, false}) {
     INFO((plane ? "plane" : "box"));
@@ -224,16 +224,16 @@ TEST_CASE("JKR engine: a sphere pulled off a wall breaks at -delta_c", "[contact
     } else {
       sim.add_wall(geometry::BoxShape<Dim3>(Eigen::Vector3d(-0.005, -0.005, -0.005), Eigen::Vector3d(0.005, 0.005, 0.0)), wm);
     }
-    sim.add_particle(Eigen::Vector3d(0.0, 0.0, kR - delta0), kR, pm, Eigen::Vector3d(0.0, 0.0, v));
+    sim.add_particle(Eigen::Vector3d(0.0, 0.0, kRJkr - delta0), kRJkr, pm, Eigen::Vector3d(0.0, 0.0, v));
     double last_contact = 1.0, first_apart = 1.0;
     for (int s = 0; s < 400; ++s) {
       sim.step();
       const auto& pp = sim.particles();
-      const double d = kR - pp.x[0].z();
+      const double d = kRJkr - pp.x[0].z();
       if (sim.contact_count() == 1) {
         REQUIRE(first_apart == 1.0);
         last_contact = d;
-        const double f = contact::JkrCohesion::force(p, contact::JkrCohesion::contact_radius(p, d, kR), kR);
+        const double f = contact::JkrCohesion::force(p, contact::JkrCohesion::contact_radius(p, d, kRJkr), kRJkr);
         CHECK(pp.f[0].z() == Approx(f).epsilon(1e-9));
       } else if (first_apart == 1.0) {
         first_apart = d;
@@ -292,17 +292,17 @@ TEST_CASE("DMT: constant pull-off 2 pi w R*, equilibrium overlap", "[contact][co
   const PairMaterial pm = mix(adhesive_material(), adhesive_material());
   CHECK(pm.surface_energy == kGamma);
   const auto prm = contact::HertzMindlinDmt::make(pm);
-  const auto g = make_pair_geometry<Dim3>(Eigen::Vector3d(2.0 * kR - 1e-15, 0, 0), Eigen::Vector3d::Zero(), kR, kR,
+  const auto g = make_pair_geometry<Dim3>(Eigen::Vector3d(2.0 * kRJkr - 1e-15, 0, 0), Eigen::Vector3d::Zero(), kRJkr, kRJkr,
                                           1e-5, 1e-5, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
                                           Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 1e-6);
   contact::HertzMindlinDmt::State<Dim3> s{};
-  CHECK(contact::HertzMindlinDmt::evaluate(prm, g, s).fn == Approx(-2.0 * kPi * kW * kRstar).epsilon(1e-6));
+  CHECK(contact::HertzMindlinDmt::evaluate(prm, g, s).fn == Approx(-2.0 * kPiJkr * kW * kRstar).epsilon(1e-6));
   {  // approach: nothing before touch
     Pair<contact::HertzMindlinDmt> pr(-2.0e-6, 0.0, -1.0);
     for (int k = 0; k < 10; ++k) pr.sim.step();
     CHECK(pr.sim.contact_count() == 0);
   }
-  const double d_eq = std::pow(3.0 * kPi * kW * std::sqrt(kRstar) / (2.0 * e_star()), 2.0 / 3.0);
+  const double d_eq = std::pow(3.0 * kPiJkr * kW * std::sqrt(kRstar) / (2.0 * e_star()), 2.0 / 3.0);
   Pair<contact::HertzMindlinDmt> pr(0.5 * d_eq, 0.0, -1.0, 0.3);
   pr.sim.run_until(0.03);
   INFO("DMT delta_eq " << pr.overlap() << " m, theory " << d_eq);
