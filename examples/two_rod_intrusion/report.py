@@ -58,7 +58,30 @@ def load(tag):
     for f in glob.glob(os.path.join(base, "peak_*.csv")):
         shape = os.path.basename(f)[len("peak_"):-4]
         s["peak"][shape] = read_rows(f)[0]
+    # A part stopped before its end has cases but no per-gap summary (the program writes it when
+    # the part is complete): summarise the cases here, in the summary's columns.
+    for shape in sorted({c["shape"] for c in cases} - set(s["gaps"])):
+        s["gaps"][shape] = summarise_cases([c for c in cases if c["shape"] == shape])
     return s
+
+
+def summarise_cases(cases):
+    """Per-gap mean and standard error over beds of W, the very strong forces and dF/dz (the
+    columns of work_vs_gap_*.csv); the standard error is NaN for one bed."""
+    def mean_se(xs):
+        m = sum(xs) / len(xs)
+        if len(xs) < 2:
+            return m, float("nan")
+        return m, math.sqrt(sum((x - m) ** 2 for x in xs) / (len(xs) - 1) / len(xs))
+    rows = []
+    for gap in sorted({c["gap_over_d"] for c in cases if c["gap_over_d"] >= 0}):
+        at = [c for c in cases if c["gap_over_d"] == gap]
+        w, w_se = mean_se([c["work"] for c in at])
+        vs, vs_se = mean_se([c["very_strong"] for c in at])
+        rows.append({"gap_over_d": gap, "beds": float(len(at)), "work_mean": w, "work_se": w_se,
+                     "work_over_two_single": float("nan"), "very_strong_mean": vs, "very_strong_se": vs_se,
+                     "slope_mean": mean_se([c["slope"] for c in at])[0]})
+    return rows
 
 
 def fmt(v, digits=4):
@@ -170,6 +193,13 @@ def table_paper(studies):
         if 3 in w and 15 in w:
             ratios.append(f"{fmt(w[3]['work_mean'] / w[15]['work_mean'], 3)} ({side} cm, {int(w[3]['beds'])} "
                           f"bed{'s' if w[3]['beds'] > 1 else ''})")
+    w3 = []
+    for tag, side in (("square", "9"), ("box13", "13"), ("box17", "17"), ("box25", "25")):
+        w = {r["gap_over_d"]: r for r in by.get(tag, {"gaps": {}})["gaps"].get("square", [])}
+        if 3 in w:
+            w3.append(f"{fmt(w[3]['work_mean'], 3)} J ({side} cm, {int(w[3]['beds'])} bed{'s' if w[3]['beds'] > 1 else ''})")
+    if len(w3) > 1:
+        rows.append("| W(s/d = 3), square rods, by box side | – | " + ", ".join(w3) + " |")
     if len(ratios) > 1:
         rows.append("| W(s/d = 3) / W(s/d = 15), square rods, by box side | ≈ 1.25 (25 cm box; the plateau) | "
                     + ", ".join(ratios) + " |")
