@@ -12,9 +12,11 @@
 #include <string>
 
 #include "engine_helpers.hpp"
+#include "../support/message_of.hpp"
 
 using namespace granule;
 using Catch::Matchers::Contains;
+using granule::test::message_of;
 
 namespace {
 
@@ -27,19 +29,6 @@ SimulationConfig<D> small_config() {
   cfg.dt = 1e-6;
   cfg.thickness = 1e-3;
   return cfg;
-}
-
-// The message of the exception of type E thrown by f(), or a text saying what happened instead.
-template <class E, class F>
-std::string message_of(F&& f) {
-  try {
-    f();
-  } catch (const E& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    return std::string("<other exception: ") + e.what() + ">";
-  }
-  return "<no exception>";
 }
 
 Material with(void (*edit)(Material&)) {

@@ -14,10 +14,12 @@
 
 #include "../contact/contact_test_support.hpp"
 #include "granule/io/checkpoint.hpp"
+#include "../support/message_of.hpp"
 
 using namespace granule;
 using namespace granule::contact_test;
 using Catch::Matchers::Contains;
+using granule::test::message_of;
 
 namespace {
 
@@ -42,18 +44,6 @@ Material soft_grain(double e, double mu) {
   m.restitution = e;
   m.friction = mu;
   return m;
-}
-
-template <class E, class F>
-std::string message_of(F&& f) {
-  try {
-    f();
-  } catch (const E& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    return std::string("<other exception: ") + e.what() + ">";
-  }
-  return "<no exception>";
 }
 
 struct Impact {
