@@ -716,8 +716,9 @@ class Simulation {
   }
 
   /// Writes the dynamic state (particles, ghosts, neighbour list with history, bodies, time and
-  /// its origin) to `w`. The scene's static set-up (materials, walls, group motions, observers) is not stored:
-  /// the restarting program builds the same scene and then loads the state (io/checkpoint.hpp).
+  /// its origin) to `w`. The scene's static set-up (materials, walls, group motions, observers)
+  /// is not part of it: the restarting program builds the same scene and then loads the state
+  /// (io/checkpoint.hpp, which also records the materials to compare them).
   template <class W>
   void save_state(W& w) {
     if (!initialised_ || !list_valid_) initialise();
@@ -844,13 +845,15 @@ class Simulation {
     if (!std::isfinite(time) || !std::isfinite(time_origin) || step_origin > step)
       bad("its time " + detail::to_text(time) + " s (origin " + detail::to_text(time_origin) + " s at step " +
           std::to_string(step_origin) + " of " + std::to_string(step) + ") is not a finite time");
-    if (!(std::isfinite(skin) && skin >= 0.0)) bad("its neighbour skin " + detail::to_text(skin) + " m is not in [0, inf)");
+    if (!(std::isfinite(skin) && skin >= 0.0))
+      bad("its neighbour skin " + detail::to_text(skin) + " m is not in [0, inf)");
     const std::size_t slots = p.x.size();
     if (owned > slots)
       bad("it declares " + std::to_string(owned) + " particles but holds arrays of " + std::to_string(slots));
     const auto same = [&](std::size_t got, const char* what, std::size_t want) {
       if (got != want)
-        bad(std::string("its array '") + what + "' has " + std::to_string(got) + " values, not " + std::to_string(want));
+        bad(std::string("its array '") + what + "' has " + std::to_string(got) + " values, not " +
+            std::to_string(want));
     };
     same(p.v.size(), "v", slots); same(p.f.size(), "f", slots); same(p.omega.size(), "omega", slots);
     same(p.torque.size(), "torque", slots); same(p.radius.size(), "radius", slots);
@@ -872,8 +875,9 @@ class Simulation {
         if (!std::isfinite(p.f[i][k])) at("f[" + std::to_string(k) + "] =", p.f[i][k]);
       }
       for (int k = 0; k < D::rot_dim; ++k) {
-        if (!std::isfinite(component(p.omega[i], k))) at("omega[" + std::to_string(k) + "] =", component(p.omega[i], k));
-        if (!std::isfinite(component(p.torque[i], k))) at("torque[" + std::to_string(k) + "] =", component(p.torque[i], k));
+        const double w = component(p.omega[i], k), t = component(p.torque[i], k);
+        if (!std::isfinite(w)) at("omega[" + std::to_string(k) + "] =", w);
+        if (!std::isfinite(t)) at("torque[" + std::to_string(k) + "] =", t);
       }
       if (!(p.radius[i] > 0.0 && std::isfinite(p.radius[i]))) at("radius =", p.radius[i]);
       if (!(p.mass[i] > 0.0 && std::isfinite(p.mass[i]))) at("mass =", p.mass[i]);
