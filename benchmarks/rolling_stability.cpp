@@ -96,7 +96,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "settled %zu particles at t = %g s -> %s\n", sim->particles().owned(), sim->time(), bed.c_str());
   }
   auto probe = make_box(eta, 2e-6);
-  io::read_checkpoint(*probe, bed);
+  io::read_checkpoint(*probe, bed, {.allow_other_materials = true});  // (the bed may have another eta_r)
   probe->step();
   const auto lim = probe->rolling_stability_limit();
   std::fprintf(stderr, "limit %.4e s at particle id %llu (%zu contacts); 0.2 t_R = %.4e s\n", lim.limit,
@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
   std::printf("eta_r,factor,dt_s,limit_s,rotational_energy_per_particle_J\n");
   for (const double f : factors) {
     auto sim = make_box(eta, 2e-6);  // the checkpoint's step; changed after reading it
-    io::read_checkpoint(*sim, bed);
+    io::read_checkpoint(*sim, bed, {.allow_other_materials = true});
     sim->set_dt(f * lim.limit);
     sim->run_until(sim->time() + time);
     std::printf("%g,%g,%.6e,%.6e,%.6e\n", eta, f, f * lim.limit, lim.limit, rotational_energy_per_particle(*sim));

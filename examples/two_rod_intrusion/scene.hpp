@@ -460,8 +460,8 @@ struct LoadedBed {
 
 /// Loads the cached bed of `p` from `cache_dir`, or pours it (and writes the cache) when the
 /// file is missing or unreadable. The bed is poured in a simulation whose grains have the
-/// pouring friction and read back into one with `p.friction` (a checkpoint holds the state,
-/// not the materials). The checkpoint's user section holds {key, surface bits, settle-time
+/// pouring friction and read back into one with `p.friction` (allow_other_materials: the
+/// checkpoint records the pouring materials). The checkpoint's user section holds {key, surface bits, settle-time
 /// bits, packing bits}; the file name already encodes the key, so a changed bed gets a new file.
 inline LoadedBed load_or_prepare_bed(const BedParams& p, const std::filesystem::path& cache_dir,
                                      const std::function<void(const std::string&)>& log = {}) {
@@ -469,7 +469,7 @@ inline LoadedBed load_or_prepare_bed(const BedParams& p, const std::filesystem::
   const std::filesystem::path file = cache_dir / p.checkpoint_name();
   auto read = [&]() -> bool {
     out.sim = make_bed_simulation(p, &out.materials);
-    const auto user = io::read_checkpoint(*out.sim, file.string());
+    const auto user = io::read_checkpoint(*out.sim, file.string(), {.allow_other_materials = true});
     if (user.size() != 4 || user[0] != p.key()) return false;
     out.info.surface = detail::from_bits(user[1]);
     out.info.settle_time = detail::from_bits(user[2]);

@@ -188,6 +188,7 @@ class Simulation {
       const double w = component(omega, k);
       require(std::isfinite(w), where, "omega[" + std::to_string(k) + "]", w, "finite");
     }
+    check_insertion(x, radius, where);
     list_.detach(particles_);  // the slots the rows name change here
     particles_.clear_ghosts();
     const double m = materials_[material].density * D::volume(radius, config_.thickness);
@@ -299,7 +300,9 @@ class Simulation {
     return removed;
   }
 
-  /// Registers f(sim) to run after every n-th step (and after step 0 when at_start).
+  /// Registers f(sim) to run after every step whose count is a multiple of n (not before the
+  /// first step: call f yourself for the initial state). With `needs_contacts` the contacts of
+  /// those steps are recorded for frame().
   void every(std::uint64_t n, std::function<void(Simulation&)> f, bool needs_contacts = false) {
     require(n > 0, "Simulation::every", "n", static_cast<double>(n), "[1, inf)");
     observers_.push_back({n, std::move(f), needs_contacts});
@@ -369,8 +372,10 @@ class Simulation {
       if (test_moves) moved |= (p.x[i] - list_.x_at_build[i].template cast<double>()).squaredNorm() > lim2;
     }
     for (auto& b : bodies_) b.advance(time_, dt);
-    time_ += dt;
     ++step_;
+    // The product, not a running sum: no rounding accumulates (20 000 steps of 5e-6 s give
+    // 0.1 s, where adding dt gave 0.10000000000002962 s).
+    time_ = time_origin_ + static_cast<double>(step_ - step_origin_) * dt;
     const bool record = contacts_wanted(step_);
     if (!test_moves || moved != 0 || body_needs_rebuild()) {
       rebuild();
@@ -425,6 +430,12 @@ class Simulation {
   ParticleStore<D>& particles() { return particles_; }
   const ParticleStore<D>& particles() const { return particles_; }
   const MaterialTable& materials() const { return materials_; }
+  /// Whether material m was added with add_wall_material.
+  bool is_wall_material(std::uint32_t m) const {
+    require(m < materials_.size(), "Simulation::is_wall_material", "m", m,
+            "[0, " + std::to_string(materials_.size()) + ")");
+    return wall_material_[m];
+  }
   Body<D>& body(std::uint32_t b) { return bodies_.at(b); }
   const Body<D>& body(std::uint32_t b) const { return bodies_.at(b); }
   std::size_t body_count() const { return bodies_.size(); }
@@ -452,9 +463,14 @@ class Simulation {
     throw InvalidParameter("Simulation::index_of: id = " + std::to_string(id) + " is not a particle");
   }
 
-  /// Sets the time-step; the stability check runs again before the next step.
+  /// Sets the time-step; the stability check runs again before the next step. Time then counts
+  /// on from the present: time() = t_change + (steps since the change) x dt.
   void set_dt(double dt) {
     require(dt > 0.0 && std::isfinite(dt), "Simulation::set_dt", "dt", dt, "(0, inf) s");
+    if (dt != config_.dt) {
+      time_origin_ = time_;
+      step_origin_ = step_;
+    }
     config_.dt = dt;
     initialised_ = false;
   }
@@ -680,6 +696,8 @@ class Simulation {
     fr.mass.assign(particles_.mass.begin(), particles_.mass.begin() + n);
     fr.id.assign(particles_.id.begin(), particles_.id.begin() + n);
     fr.group.assign(particles_.group.begin(), particles_.group.begin() + n);
+    fr.force.assign(particles_.f.begin(), particles_.f.begin() + n);
+    fr.torque.assign(particles_.torque.begin(), particles_.torque.begin() + n);
     if (records_step_ == step_) fr.contacts = records_;
     fr.box_lo = config_.domain.lo;
     fr.box_hi = config_.domain.hi;
@@ -697,9 +715,10 @@ class Simulation {
     return p.x.capacity() * per + list_.memory_bytes() + work;
   }
 
-  /// Writes the dynamic state (particles, ghosts, neighbour list with history, bodies, time) to
-  /// `w`. The scene's static set-up (materials, walls, group motions, observers) is not stored:
-  /// the restarting program builds the same scene and then loads the state (io/checkpoint.hpp).
+  /// Writes the dynamic state (particles, ghosts, neighbour list with history, bodies, time and
+  /// its origin) to `w`. The scene's static set-up (materials, walls, group motions, observers)
+  /// is not part of it: the restarting program builds the same scene and then loads the state
+  /// (io/checkpoint.hpp, which also records the materials to compare them).
   template <class W>
   void save_state(W& w) {
     if (!initialised_ || !list_valid_) initialise();
@@ -732,61 +751,195 @@ class Simulation {
       w.template pod<AngVec>(wl.torque);
     }
     w.vec(group_motion_);
+    w.template pod<double>(time_origin_);
+    w.template pod<std::uint64_t>(step_origin_);
   }
 
+  /// The layout save_state writes: checkpoint format 5 (io/checkpoint.hpp). 4 lacks the time
+  /// origin (time and step at the last change of dt), 3 also the wall states.
+  static constexpr std::uint32_t kStateFormat = 5;
+
   /// Restores what save_state wrote into a simulation set up with the same scene. Without
-  /// `wall_states` (checkpoint format 3, from before walls could be switched off) every wall is
-  /// active and the wall readouts are zero until the next step.
+  /// `wall_states` the state is read as checkpoint format 3 wrote it (before walls could be
+  /// switched off): every wall is active and the wall readouts are zero until the next step.
   template <class R>
   void load_state(R& r, bool wall_states = true) {
-    auto& p = particles_;
-    time_ = r.template pod<double>();
-    step_ = r.template pod<std::uint64_t>();
-    next_id_ = r.template pod<std::uint64_t>();
+    load_state_format(r, wall_states ? kStateFormat : 3);
+  }
+
+  /// Restores a state in the layout of checkpoint format `format` (3, 4 or kStateFormat). All of
+  /// it is read and checked first -- the scene's dt, body, wall and material counts and group
+  /// modes, array sizes, every index (materials, ghost owners, list entries, history slots) and
+  /// the finiteness of every value -- and only then taken over: when r.fail() throws, the
+  /// simulation is as it was. With `whole`, data after the state (r.position() < r.size()) is an
+  /// error too. Formats 3 and 4 start the time origin at the state's time and step.
+  template <class R>
+  void load_state_format(R& r, std::uint32_t format, bool whole = false) {
+    require(format >= 3 && format <= kStateFormat, "Simulation::load_state_format", "format", format,
+            "[3, " + std::to_string(kStateFormat) + "]");
+    const double time = r.template pod<double>();
+    const auto step = r.template pod<std::uint64_t>();
+    const auto next_id = r.template pod<std::uint64_t>();
     const double dt = r.template pod<double>();
     if (dt != config_.dt)
       r.fail("time step " + detail::to_text(dt) + " s differs from the scene's " + detail::to_text(config_.dt) + " s");
-    skin_used_ = r.template pod<double>();
+    const double skin = r.template pod<double>();
     const auto owned = r.template pod<std::uint64_t>();
-    p.clear_ghosts();
+    ParticleStore<D> p;
     r.vec(p.x); r.vec(p.v); r.vec(p.f); r.vec(p.omega); r.vec(p.torque); r.vec(p.radius);
     r.vec(p.mass); r.vec(p.inv_mass); r.vec(p.inv_inertia); r.vec(p.material); r.vec(p.group);
     r.vec(p.id); r.vec(p.motion); r.vec(p.image); r.vec(p.ghost_owner); r.vec(p.ghost_shift);
-    p.set_owned(static_cast<std::size_t>(owned));
-    list_.load(r);
+    List list;
+    list.read_saved(r);
     const auto nb = r.template pod<std::uint64_t>();
     if (nb != bodies_.size())
       r.fail("it has " + std::to_string(nb) + " bodies, the scene " + std::to_string(bodies_.size()));
-    for (auto& b : bodies_) {
-      const auto rot = r.template pod<typename D::Mat>();
-      const auto t = r.template pod<Vec>();
-      b.pose = geometry::Pose<D>(rot, t);
+    struct BodyState {
+      typename D::Mat rotation;
+      Vec translation, force;
+      AngVec torque;
+      double work;
+      Vec displacement;
+      double rotation_since_build;
+    };
+    std::vector<BodyState> bs(bodies_.size());
+    for (auto& b : bs) {
+      b.rotation = r.template pod<typename D::Mat>();
+      b.translation = r.template pod<Vec>();
       b.force = r.template pod<Vec>();
       b.torque = r.template pod<AngVec>();
       b.work = r.template pod<double>();
-      b.displacement_since_build = r.template pod<Vec>();
+      b.displacement = r.template pod<Vec>();
       b.rotation_since_build = r.template pod<double>();
-      b.set_velocities(time_);
     }
     const auto nm = r.template pod<std::uint64_t>();
     const auto nw = r.template pod<std::uint64_t>();
     if (nm != materials_.size() || nw != walls_.size())
       r.fail("it has " + std::to_string(nm) + " materials and " + std::to_string(nw) +
              " walls, the scene " + std::to_string(materials_.size()) + " and " + std::to_string(walls_.size()));
-    // (The list read above lists the walls active when it was written; the scene's switches
-    // follow the checkpoint.)
-    for (auto& wl : walls_) {
-      wl.active = !wall_states || r.template pod<std::uint8_t>() != 0;
-      wl.force = wall_states ? r.template pod<Vec>() : Vec::Zero();
-      wl.torque = wall_states ? r.template pod<AngVec>() : D::zero_ang();
-    }
+    struct WallState {
+      bool active = true;
+      Vec force = Vec::Zero();
+      AngVec torque = D::zero_ang();
+    };
+    std::vector<WallState> ws(walls_.size());
+    if (format >= 4)
+      for (auto& wl : ws) {
+        wl.active = r.template pod<std::uint8_t>() != 0;
+        wl.force = r.template pod<Vec>();
+        wl.torque = r.template pod<AngVec>();
+      }
     std::vector<Motion> modes;
     r.vec(modes);
-    for (std::size_t g = 0; g < modes.size(); ++g) {
-      group_mode_resize(static_cast<std::uint32_t>(g));
-      if (modes[g] != group_motion_[g])
-        r.fail("group " + std::to_string(g) + " has a different motion mode than in the scene");
+    double time_origin = time;
+    std::uint64_t step_origin = step;
+    if (format >= 5) {
+      time_origin = r.template pod<double>();
+      step_origin = r.template pod<std::uint64_t>();
     }
+    if constexpr (requires { r.size(); })
+      if (whole && r.position() != r.size()) r.fail("unexpected trailing data");
+
+    // ---- checks (nothing of this simulation has changed yet) ----
+    const auto bad = [&](const std::string& why) { r.fail(why); };
+    if (!std::isfinite(time) || !std::isfinite(time_origin) || step_origin > step)
+      bad("its time " + detail::to_text(time) + " s (origin " + detail::to_text(time_origin) + " s at step " +
+          std::to_string(step_origin) + " of " + std::to_string(step) + ") is not a finite time");
+    if (!(std::isfinite(skin) && skin >= 0.0))
+      bad("its neighbour skin " + detail::to_text(skin) + " m is not in [0, inf)");
+    const std::size_t slots = p.x.size();
+    if (owned > slots)
+      bad("it declares " + std::to_string(owned) + " particles but holds arrays of " + std::to_string(slots));
+    const auto same = [&](std::size_t got, const char* what, std::size_t want) {
+      if (got != want)
+        bad(std::string("its array '") + what + "' has " + std::to_string(got) + " values, not " +
+            std::to_string(want));
+    };
+    same(p.v.size(), "v", slots); same(p.f.size(), "f", slots); same(p.omega.size(), "omega", slots);
+    same(p.torque.size(), "torque", slots); same(p.radius.size(), "radius", slots);
+    same(p.mass.size(), "mass", slots); same(p.inv_mass.size(), "inv_mass", slots);
+    same(p.inv_inertia.size(), "inv_inertia", slots); same(p.material.size(), "material", slots);
+    same(p.group.size(), "group", slots); same(p.id.size(), "id", slots); same(p.motion.size(), "motion", slots);
+    same(p.image.size(), "image", slots); same(p.ghost_owner.size(), "ghost_owner", slots - owned);
+    same(p.ghost_shift.size(), "ghost_shift", slots - owned);
+    p.set_owned(static_cast<std::size_t>(owned));
+    const std::size_t groups = std::max(group_motion_.size(), modes.size());
+    for (std::size_t i = 0; i < slots; ++i) {
+      const auto at = [&](const std::string& what, double value) {
+        bad("particle slot " + std::to_string(i) + " (id " + std::to_string(p.id[i]) + "): " + what + " " +
+            detail::to_text(value));
+      };
+      for (int k = 0; k < D::dim; ++k) {
+        if (!std::isfinite(p.x[i][k])) at("x[" + std::to_string(k) + "] =", p.x[i][k]);
+        if (!std::isfinite(p.v[i][k])) at("v[" + std::to_string(k) + "] =", p.v[i][k]);
+        if (!std::isfinite(p.f[i][k])) at("f[" + std::to_string(k) + "] =", p.f[i][k]);
+      }
+      for (int k = 0; k < D::rot_dim; ++k) {
+        const double w = component(p.omega[i], k), t = component(p.torque[i], k);
+        if (!std::isfinite(w)) at("omega[" + std::to_string(k) + "] =", w);
+        if (!std::isfinite(t)) at("torque[" + std::to_string(k) + "] =", t);
+      }
+      if (!(p.radius[i] > 0.0 && std::isfinite(p.radius[i]))) at("radius =", p.radius[i]);
+      if (!(p.mass[i] > 0.0 && std::isfinite(p.mass[i]))) at("mass =", p.mass[i]);
+      if (!(p.inv_mass[i] >= 0.0 && std::isfinite(p.inv_mass[i]))) at("inv_mass =", p.inv_mass[i]);
+      if (!(p.inv_inertia[i] >= 0.0 && std::isfinite(p.inv_inertia[i]))) at("inv_inertia =", p.inv_inertia[i]);
+      if (p.material[i] >= materials_.size() || wall_material_[p.material[i]])
+        at("material index", p.material[i]);
+      const auto mode = static_cast<std::uint8_t>(p.motion[i]);
+      if (mode > static_cast<std::uint8_t>(Motion::Prescribed)) at("motion mode", mode);
+      // (A prescribed particle takes its group's velocity: the group must exist.)
+      if (p.motion[i] == Motion::Prescribed && p.group[i] >= groups) at("prescribed, in group", p.group[i]);
+      if (i >= owned && p.ghost_owner[i - owned] >= owned) at("ghost of slot", p.ghost_owner[i - owned]);
+    }
+    for (std::size_t i = 0; i < owned; ++i)
+      if (p.id[i] >= next_id)
+        bad("particle slot " + std::to_string(i) + " has id " + std::to_string(p.id[i]) + ", not below the next id " +
+            std::to_string(next_id));
+    if (auto why = list.check_loaded(p.owned(), slots, walls_.size()); !why.empty()) bad(why);
+    for (std::size_t k = 0; k < bs.size(); ++k) {
+      const BodyState& b = bs[k];
+      bool finite = b.rotation.allFinite() && b.translation.allFinite() && b.force.allFinite() &&
+                    b.displacement.allFinite() && std::isfinite(b.work) && std::isfinite(b.rotation_since_build);
+      for (int c = 0; c < D::rot_dim; ++c) finite = finite && std::isfinite(component(b.torque, c));
+      if (!finite) bad("body " + std::to_string(k) + " has a value that is not finite");
+    }
+    for (std::size_t k = 0; k < ws.size(); ++k) {
+      bool finite = ws[k].force.allFinite();
+      for (int c = 0; c < D::rot_dim; ++c) finite = finite && std::isfinite(component(ws[k].torque, c));
+      if (!finite) bad("wall " + std::to_string(k) + " has a force or torque that is not finite");
+    }
+    for (std::size_t g = 0; g < modes.size(); ++g) {
+      const Motion scene = g < group_motion_.size() ? group_motion_[g] : Motion::Free;
+      if (modes[g] != scene) bad("group " + std::to_string(g) + " has a different motion mode than in the scene");
+    }
+
+    // ---- commit ----
+    time_ = time;
+    step_ = step;
+    next_id_ = next_id;
+    skin_used_ = skin;
+    time_origin_ = time_origin;
+    step_origin_ = step_origin;
+    particles_ = std::move(p);
+    list_.take_loaded(list);
+    for (std::size_t k = 0; k < bs.size(); ++k) {
+      Body<D>& b = bodies_[k];
+      b.pose = geometry::Pose<D>(bs[k].rotation, bs[k].translation);
+      b.force = bs[k].force;
+      b.torque = bs[k].torque;
+      b.work = bs[k].work;
+      b.displacement_since_build = bs[k].displacement;
+      b.rotation_since_build = bs[k].rotation_since_build;
+      b.set_velocities(time_);
+    }
+    // (The list read above lists the walls active when it was written; the scene's switches
+    // follow the checkpoint.)
+    for (std::size_t k = 0; k < ws.size(); ++k) {
+      walls_[k].active = ws[k].active;
+      walls_[k].force = ws[k].force;
+      walls_[k].torque = ws[k].torque;
+    }
+    if (!modes.empty()) group_mode_resize(static_cast<std::uint32_t>(modes.size() - 1));
     wall_touched_.assign(list_.wall.size(), 0);
     parallel_ = particles_.owned() >= kParallelMinParticles;
     update_group_velocities(time_);
@@ -847,6 +1000,37 @@ class Simulation {
   struct PairWork {
     std::vector<std::uint32_t> entries, rows;
   };
+
+  // A particle wider than the domain along a bounded axis, or one that an active wall
+  // overlaps by more than max_overlap_ratio x its radius (it pokes through the wall: the first
+  // step would stop as unstable), is refused here, where the call that placed it is known.
+  void check_insertion(const Vec& x, double radius, const std::string& where) const {
+    for (int k = 0; k < D::dim; ++k) {
+      if (config_.domain.periodic[k]) continue;  // (the list refuses a period shorter than the range)
+      const double half = 0.5 * (config_.domain.hi[k] - config_.domain.lo[k]);
+      require(radius <= half, where, "radius", radius,
+              "(0, " + detail::to_text(half) + "] m (half the domain's width along axis " + std::to_string(k) +
+                  ": a larger particle does not fit in the box)");
+    }
+    const double allowed = config_.max_overlap_ratio * radius;
+    for (std::uint32_t w = 0; w < walls_.size(); ++w) {
+      if (!walls_[w].active) continue;
+      double deepest = 0.0;
+      walls_[w].for_each_contact(bodies_[walls_[w].body], x, radius, [&](const geometry::SurfacePoint<D>& sp) {
+        deepest = std::max(deepest, sp.overlap(radius));
+      });
+      if (deepest > allowed) {
+        std::ostringstream m;
+        m.precision(17);
+        m << where << ": the particle at x = (";
+        for (int k = 0; k < D::dim; ++k) m << (k ? ", " : "") << x[k];
+        m << ") m of radius " << radius << " m overlaps wall " << w << " by " << deepest
+          << " m, more than max_overlap_ratio (" << config_.max_overlap_ratio << ") x radius = " << allowed
+          << " m: it pokes through the wall";
+        throw InvalidParameter(m.str());
+      }
+    }
+  }
 
   std::uint32_t add_material_impl(const Material& m, bool is_wall) {
     const std::uint32_t idx = materials_.add(m, is_wall);
@@ -1954,6 +2138,8 @@ class Simulation {
   std::size_t contacts_ = 0;
   double time_ = 0.0;
   std::uint64_t step_ = 0;
+  double time_origin_ = 0.0;       ///< time at the last change of dt (time() counts from it)
+  std::uint64_t step_origin_ = 0;  ///< step count at the last change of dt
   std::uint64_t next_id_ = 0;
   double skin_used_ = 0.0;
   bool list_valid_ = false;

@@ -348,3 +348,35 @@ TEMPLATE_TEST_CASE("A non-finite position stops the run at the step it appears",
   CHECK(p.x[sim.index_of(other)].allFinite());
   CHECK(p.v[sim.index_of(other)].allFinite());
 }
+
+// A particle that cannot fit in the box, or that a wall overlaps by more than max_overlap_ratio
+// x its radius (it pokes through the wall), is refused where it is added; the first step would
+// otherwise stop as unstable (or, for a particle wider than the box, never settle).
+TEMPLATE_TEST_CASE("add_particle refuses a particle larger than the box or through a wall", "[engine][errors]", Dim2,
+                   Dim3) {
+  using D = TestType;
+  using Vec = typename D::Vec;
+  Simulation<D, contact::HertzMindlin> sim(small_config<D>());  // box [0, 0.05] m
+  const auto mat = sim.add_material(test::soft_material());
+  const auto wmat = sim.add_wall_material(test::soft_material());
+  const Vec centre = Vec::Constant(0.025);
+  CHECK_THAT(message_of<InvalidParameter>([&] { sim.add_particle(centre, 0.03, mat); }),
+             Contains("radius = 0.029999999999999999") && Contains("(0, 0.025000000000000001] m") &&
+                 Contains("does not fit in the box"));
+  const auto floor = sim.add_wall(geometry::PlaneShape<D>(Vec::Constant(0.01), Vec::Unit(D::dim - 1)), wmat);
+  Vec x = centre;
+  x[D::dim - 1] = 0.01 + 0.4e-3;  // 0.6 mm deep for a 1 mm radius: more than half of it
+  CHECK_THAT(message_of<InvalidParameter>([&] { sim.add_particle(x, 1e-3, mat); }),
+             Contains("overlaps wall 0 by 0.0006") && Contains("max_overlap_ratio (0.5)") && Contains("pokes through"));
+  x[D::dim - 1] = 0.01 - 2e-3;  // the centre behind the wall
+  CHECK_THAT(message_of<InvalidParameter>([&] { sim.add_particle(x, 1e-3, mat); }), Contains("pokes through"));
+  CHECK(sim.particles().owned() == 0);
+  // A shallower overlap is an ordinary contact; an inactive wall is not checked.
+  x[D::dim - 1] = 0.01 + 0.6e-3;
+  CHECK_NOTHROW(sim.add_particle(x, 1e-3, mat));
+  sim.set_wall_active(floor, false);
+  x[D::dim - 1] = 0.01 + 0.1e-3;
+  x[0] += 0.01;
+  CHECK_NOTHROW(sim.add_particle(x, 1e-3, mat));
+  CHECK(sim.particles().owned() == 2);
+}

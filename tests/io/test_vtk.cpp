@@ -20,6 +20,7 @@
 #include <sys/wait.h>
 #endif
 
+#include "granule/granule.hpp"
 #include "granule/io/vtk.hpp"
 
 #ifndef GRANULE_SOURCE_DIR
@@ -223,6 +224,14 @@ analysis::Frame<D> sample_frame() {
     f.mass.push_back(std::numbers::pi * 1e-6 * (i + 1));
     f.id.push_back(1234567890123ull + 7ull * i);
     f.group.push_back(static_cast<std::uint32_t>(i % 3));
+    typename D::Vec force;
+    for (int k = 0; k < D::dim; ++k) force[k] = std::sin(1.0 + i + 2.0 * k) * 1e-3;
+    f.force.push_back(force);
+    if constexpr (D::dim == 2) {
+      f.torque.push_back(-1e-6 / (i + 3.0));
+    } else {
+      f.torque.emplace_back(1e-6 / (i + 3.0), -2e-7 * i, std::cos(0.5 * i) * 1e-6);
+    }
   }
   return f;
 }
@@ -274,6 +283,12 @@ TEMPLATE_TEST_CASE("VtkWriter particle frames read back exactly with VTK", "[io]
       CHECK(pd["mass"]["tuples"][i][0].number == frame.mass[i]);
       CHECK(pd["id"]["tuples"][i][0].number == double(frame.id[i]));
       CHECK(pd["group"]["tuples"][i][0].number == double(frame.group[i]));
+      check_vec_tuple(pd["force"]["tuples"][i], frame.force[i]);
+      if constexpr (D::dim == 2) {
+        check_vec_tuple(pd["torque"]["tuples"][i], Eigen::Vector3d(0, 0, frame.torque[i]));
+      } else {
+        check_vec_tuple(pd["torque"]["tuples"][i], frame.torque[i]);
+      }
       CHECK(pd["pressure"]["tuples"][i][0].number == pressure[i]);
       check_vec_tuple(pd["displacement"]["tuples"][i], displacement[i]);
     }
@@ -394,4 +409,62 @@ TEMPLATE_TEST_CASE("particle_grid refuses fields of the wrong size", "[io][vtk]"
   g.add_point(Eigen::Vector3d::Zero());
   g.add_cell(io::kVtkLine, {0, 1});
   CHECK_THROWS_AS(io::write_vtu(temp_dir("bad") / "bad.vtu", g), InvalidParameter);
+}
+
+// Frames of a simulation carry each particle's force and torque, so a .vtu holds them without
+// user fields; a user field of the same name takes their place.
+TEMPLATE_TEST_CASE("particle frames of a simulation carry force and torque", "[io][vtk]", Dim2, Dim3) {
+  using D = TestType;
+  using Vec = typename D::Vec;
+  SimulationConfig<D> cfg;
+  cfg.domain.hi = Vec::Constant(0.01);
+  cfg.gravity = -9.81 * Vec::Unit(D::dim - 1);
+  cfg.dt = 1e-6;
+  cfg.thickness = 1e-3;
+  Simulation<D, contact::HertzMindlin> sim(cfg);
+  Material m;
+  m.youngs_modulus = 1e7;
+  m.poisson_ratio = 0.3;
+  m.density = 2500;
+  m.restitution = 0.5;
+  m.friction = 0.5;
+  const auto mat = sim.add_material(m);
+  // Two particles pressed together off-centre with spin: forces and torques are not zero.
+  sim.add_particle(Vec::Constant(0.004), 5e-4, mat, Vec::Unit(0) * 0.2);
+  Vec x2 = Vec::Constant(0.004);
+  x2[0] += 9.5e-4;
+  x2[D::dim - 1] += 2e-4;
+  sim.add_particle(x2, 5e-4, mat, -Vec::Unit(0) * 0.2);
+  sim.run(20);
+  const auto frame = sim.frame();
+  REQUIRE(frame.force.size() == 2);
+  REQUIRE(frame.torque.size() == 2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    CHECK(frame.force[i] == sim.particles().f[i]);
+    CHECK(frame.torque[i] == sim.particles().torque[i]);
+  }
+  CHECK(frame.force[0][0] != 0.0);
+  const io::VtkGrid g = io::particle_grid<D>(frame);
+  const auto find = [&](const io::VtkGrid& grid, const std::string& name) -> const io::VtkArray* {
+    for (const auto& a : grid.point_data)
+      if (a.name == name) return &a;
+    return nullptr;
+  };
+  const io::VtkArray* force = find(g, "force");
+  const io::VtkArray* torque = find(g, "torque");
+  REQUIRE(force != nullptr);
+  REQUIRE(torque != nullptr);
+  CHECK(force->components == 3);
+  CHECK(std::get<std::vector<double>>(force->values)[0] == frame.force[0][0]);
+  if constexpr (D::dim == 2) {
+    CHECK(std::get<std::vector<double>>(torque->values)[2] == frame.torque[0]);
+  } else {
+    CHECK(std::get<std::vector<double>>(torque->values)[2] == frame.torque[0][2]);
+  }
+  const std::vector<double> mine{1.0, 2.0};
+  const std::vector<io::VtkField<D>> fields{{"force", mine}};
+  const io::VtkGrid replaced = io::particle_grid<D>(frame, fields);
+  CHECK_NOTHROW(replaced.validate());
+  REQUIRE(find(replaced, "force") != nullptr);
+  CHECK(find(replaced, "force")->components == 1);
 }

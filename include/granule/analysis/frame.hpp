@@ -46,6 +46,9 @@ struct Frame {
   Vec box_lo = Vec::Zero();          ///< domain lower corner [m]
   Vec box_hi = Vec::Zero();          ///< domain upper corner [m]
   Eigen::Matrix<bool, D::dim, 1> periodic = Eigen::Matrix<bool, D::dim, 1>::Constant(false);
+  // (After the fields above, so that designated initialisers of a Frame stay valid.)
+  std::vector<Vec> force;            ///< total force on each particle at the last evaluation [N]
+  std::vector<AngVec> torque;        ///< total torque about its centre [N m]
 
   std::size_t size() const { return x.size(); }
 };

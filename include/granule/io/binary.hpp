@@ -66,6 +66,11 @@ class BinaryReader {
     pos_ += n;
     return s;
   }
+  /// Moves past n bytes.
+  void skip(std::size_t n) {
+    need(n);
+    pos_ += n;
+  }
   std::size_t position() const { return pos_; }
   std::size_t size() const { return size_; }
   [[noreturn]] void fail(const std::string& why) const {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "granule/core/error.hpp"
+#include "granule/io/file.hpp"
 
 namespace granule::io {
 
@@ -55,7 +56,8 @@ class CsvWriter {
     const bool continuing = options_.append && std::filesystem::exists(path_) && std::filesystem::file_size(path_) > 0;
     if (continuing) prepare_append();
     file_.open(path_, continuing ? std::ios::binary | std::ios::app : std::ios::binary | std::ios::trunc);
-    if (!file_) throw IoError("io::CsvWriter: cannot open '" + path_.string() + "' for writing");
+    if (!file_)
+      throw IoError("io::CsvWriter: cannot open '" + path_.string() + "' for writing: " + detail::os_reason(errno));
     if (!continuing) {
       file_ << header_ << '\n';
       file_.flush();
@@ -92,12 +94,7 @@ class CsvWriter {
 
  private:
   void prepare_append() {
-    std::string text;
-    {
-      std::ifstream in(path_, std::ios::binary);
-      if (!in) throw IoError("io::CsvWriter: cannot read '" + path_.string() + "' to append to it");
-      text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    }
+    const std::string text = read_file(path_, "io::CsvWriter (appending)");
     const auto eol = text.find('\n');
     const std::string first = text.substr(0, eol == std::string::npos ? text.size() : eol);
     if (first != header_) {

@@ -27,6 +27,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -35,6 +36,7 @@
 #include "granule/analysis/frame.hpp"
 #include "granule/core/dimension.hpp"
 #include "granule/core/error.hpp"
+#include "granule/io/file.hpp"
 
 namespace granule::io {
 
@@ -205,10 +207,7 @@ inline void write_lammps_data(const std::string& path, const analysis::Frame<Dim
       out += '\n';
     }
   }
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (!file) throw IoError(where + ": cannot open '" + path + "' for writing");
-  file.write(out.data(), static_cast<std::streamsize>(out.size()));
-  if (!file) throw IoError(where + ": writing '" + path + "' failed");
+  write_file_atomically(path, out.data(), out.size(), where, /*durable=*/false);
 }
 
 /// Same, with the box and periodicity taken from frame.box_lo, frame.box_hi, frame.periodic.
@@ -226,8 +225,7 @@ inline void write_lammps_data(const std::string& path, const analysis::Frame<Dim
 /// of another atom style, or counts that do not match the header.
 inline LammpsData read_lammps_data(const std::string& path) {
   const std::string where = "read_lammps_data('" + path + "')";
-  std::ifstream file(path);
-  if (!file) throw IoError(where + ": cannot open file");
+  std::istringstream file(read_file(path, where));
 
   struct Row {
     std::uint64_t id;

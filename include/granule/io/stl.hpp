@@ -27,6 +27,7 @@
 
 #include "granule/boundaries/geometry/triangle_mesh.hpp"
 #include "granule/core/error.hpp"
+#include "granule/io/file.hpp"
 
 namespace granule::io {
 
@@ -182,10 +183,7 @@ inline void read_stl_ascii(const std::filesystem::path& path, const std::string&
 /// Reads an ASCII or binary STL file; coordinates multiplied by `scale` (> 0).
 inline StlData read_stl(const std::filesystem::path& path, double scale = 1.0) {
   require_positive(scale, "read_stl", "scale");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(detail::stl_where(path) + ": cannot open file");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw IoError(detail::stl_where(path) + ": read error");
+  const std::string bytes = read_file(path, "read_stl");
   StlData out;
   if (bytes.size() >= 84) {
     const std::uint64_t n = detail::read_le32(reinterpret_cast<const unsigned char*>(bytes.data()) + 80);

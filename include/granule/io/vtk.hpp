@@ -35,6 +35,7 @@
 #include "granule/analysis/frame.hpp"
 #include "granule/boundaries/geometry/display_mesh.hpp"
 #include "granule/core/error.hpp"
+#include "granule/io/file.hpp"
 
 namespace granule::io {
 
@@ -169,20 +170,10 @@ inline std::string number_text(double v) {
   return s;
 }
 
-/// Writes `content` to `path` through a temporary file and a rename.
+/// Writes `content` to `path` through a temporary file and a rename (io/file.hpp; frames are
+/// not flushed to disk one by one).
 inline void write_atomically(const std::filesystem::path& path, const std::string& content) {
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw IoError("io: cannot open '" + tmp.string() + "' for writing");
-    f.write(content.data(), static_cast<std::streamsize>(content.size()));
-    f.flush();
-    if (!f) throw IoError("io: writing '" + tmp.string() + "' failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw IoError("io: cannot rename '" + tmp.string() + "' to '" + path.string() + "': " + ec.message());
+  write_file_atomically(path, content.data(), content.size(), "io", /*durable=*/false);
 }
 
 class VtuComposer {
@@ -432,8 +423,10 @@ inline void check_size(std::size_t got, std::size_t n, const std::string& field)
 }  // namespace detail
 
 /// Particles of a frame as VTK_VERTEX cells. Point data: velocity, omega (3-vectors), radius,
-/// mass (Float64), id (Int64), group (UInt32), each written when present in the frame (a
-/// frame field must be empty or hold one value per particle), then the user fields.
+/// mass (Float64), id (Int64), group (UInt32), force and torque (3-vectors; Simulation::frame()
+/// fills them; a user field named "force" or "torque" takes their place), each written when
+/// present in the frame (a frame field must be empty or hold one value per particle), then the
+/// user fields.
 template <class D>
 VtkGrid particle_grid(const analysis::Frame<D>& frame, std::span<const VtkField<D>> fields = {}) {
   const std::size_t n = frame.x.size();
@@ -443,6 +436,8 @@ VtkGrid particle_grid(const analysis::Frame<D>& frame, std::span<const VtkField<
   detail::check_size(frame.mass.size(), n, "Frame::mass");
   detail::check_size(frame.id.size(), n, "Frame::id");
   detail::check_size(frame.group.size(), n, "Frame::group");
+  detail::check_size(frame.force.size(), n, "Frame::force");
+  detail::check_size(frame.torque.size(), n, "Frame::torque");
   VtkGrid g;
   g.points = detail::padded<D>(frame.x);
   g.connectivity.resize(n);
@@ -460,6 +455,16 @@ VtkGrid particle_grid(const analysis::Frame<D>& frame, std::span<const VtkField<
     g.point_data.push_back({"id", 1, std::vector<std::int64_t>(frame.id.begin(), frame.id.end())});
   }
   if (!frame.group.empty()) g.point_data.push_back({"group", 1, frame.group});
+  // (A user field of the same name replaces them, as it did before frames carried them.)
+  const auto user_named = [&](const char* name) {
+    for (const VtkField<D>& f : fields)
+      if (f.name == name) return true;
+    return false;
+  };
+  if (!frame.force.empty() && !user_named("force"))
+    g.point_data.push_back({"force", 3, detail::padded<D>(frame.force)});
+  if (!frame.torque.empty() && !user_named("torque"))
+    g.point_data.push_back({"torque", 3, detail::padded_angular<D>(frame.torque)});
   for (const VtkField<D>& f : fields) {
     std::visit(
         [&](const auto& span) {

@@ -205,11 +205,96 @@ class PairList {
   }
   template <class R>
   void load(R& r) {
+    read_saved(r);
+    index_wall_rows();
+    detached_ = false;
+  }
+
+  /// Reads what save() wrote, without using it (check_loaded, then take_loaded).
+  template <class R>
+  void read_saved(R& r) {
     r.vec(row_begin); r.vec(nbr); r.vec(slot); r.vec(wall_begin); r.vec(wall); r.vec(wall_state);
     r.vec(layer_begin); r.vec(x_at_build); build_rounding = r.template pod<double>(); r.vec(row_of_id_);
-    pools.resize(r.template pod<std::uint64_t>());
+    const auto np = r.template pod<std::uint64_t>();
+    // (A pool costs at least 16 bytes of the file: a crafted count cannot allocate more than it holds.)
+    if constexpr (requires { r.size(); })
+      if (np > r.size() / 16) r.fail("the neighbour list names " + std::to_string(np) + " history pools");
+    pools.resize(np);
     for (auto& pool : pools) { r.vec(pool.states); r.vec(pool.free); }
     builds = r.template pod<std::uint64_t>();
+  }
+
+  /// Why a list read by read_saved cannot serve a store of `owned` particles in `slots` slots
+  /// (ghosts included) and `walls` walls: an index out of range, sizes that disagree, a
+  /// non-finite build rounding. Empty if it can.
+  std::string check_loaded(std::size_t owned, std::size_t slots, std::size_t walls) const {
+    const auto csr = [&](const std::vector<std::uint32_t>& begin, std::size_t entries,
+                         const std::string& what) -> std::string {
+      if (begin.empty() && owned == 0 && entries == 0) return {};
+      if (begin.size() != owned + 1)
+        return what + " has " + std::to_string(begin.size()) + " row starts for " + std::to_string(owned) +
+               " particles (needs " + std::to_string(owned + 1) + ")";
+      if (begin.front() != 0 || begin.back() != entries)
+        return what + " rows span [" + std::to_string(begin.front()) + ", " + std::to_string(begin.back()) +
+               "), not the " + std::to_string(entries) + " entries";
+      for (std::size_t i = 0; i + 1 < begin.size(); ++i)
+        if (begin[i + 1] < begin[i]) return what + " row " + std::to_string(i) + " ends before it starts";
+      return {};
+    };
+    if (auto why = csr(row_begin, nbr.size(), "the neighbour list"); !why.empty()) return why;
+    if (auto why = csr(wall_begin, wall.size(), "the wall list"); !why.empty()) return why;
+    for (std::size_t e = 0; e < nbr.size(); ++e)
+      if (nbr[e] >= slots)
+        return "neighbour entry " + std::to_string(e) + " names slot " + std::to_string(nbr[e]) + " of " +
+               std::to_string(slots);
+    for (std::size_t e = 0; e < wall.size(); ++e)
+      if (wall[e].wall >= walls)
+        return "wall entry " + std::to_string(e) + " names wall " + std::to_string(wall[e].wall) + " of " +
+               std::to_string(walls);
+    if (!layer_begin.empty()) {
+      if (layer_begin.front() != 0 || layer_begin.back() != owned)
+        return "the cell layers span rows [" + std::to_string(layer_begin.front()) + ", " +
+               std::to_string(layer_begin.back()) + "), not the " + std::to_string(owned) + " particles";
+      for (std::size_t l = 0; l + 1 < layer_begin.size(); ++l)
+        if (layer_begin[l + 1] < layer_begin[l]) return "cell layer " + std::to_string(l) + " ends before it starts";
+    }
+    for (std::uint32_t r : row_of_id_)
+      if (r != kNone && r >= owned) return "the id index names row " + std::to_string(r) + " of " + std::to_string(owned);
+    if (!(std::isfinite(build_rounding) && build_rounding >= 0.0))
+      return "the build rounding " + granule::detail::to_text(build_rounding) + " m is not a finite distance";
+    if constexpr (HasState) {
+      if (slot.size() != nbr.size())
+        return "the list has " + std::to_string(slot.size()) + " history slots for " + std::to_string(nbr.size()) +
+               " entries";
+      if (wall_state.size() != wall.size())
+        return "the list has " + std::to_string(wall_state.size()) + " wall histories for " +
+               std::to_string(wall.size()) + " wall entries";
+      if (pools.size() != layers())
+        return "the list has " + std::to_string(pools.size()) + " history pools for " + std::to_string(layers()) +
+               " cell layers";
+      for (std::size_t l = 0; l < layers(); ++l) {
+        const std::size_t held = pools[l].states.size();
+        for (std::uint32_t f : pools[l].free)
+          if (f >= held) return "history pool " + std::to_string(l) + " frees slot " + std::to_string(f) + " of " + std::to_string(held);
+        if (row_begin.empty()) continue;
+        for (std::uint32_t e = row_begin[layer_begin[l]]; e < row_begin[layer_begin[l + 1]]; ++e)
+          if (slot[e] != kNone && slot[e] >= held)
+            return "neighbour entry " + std::to_string(e) + " names history slot " + std::to_string(slot[e]) +
+                   " of " + std::to_string(held) + " in pool " + std::to_string(l);
+      }
+    }
+    return {};
+  }
+
+  /// Takes over what `loaded` read (read_saved), once check_loaded found nothing wrong.
+  void take_loaded(PairList& loaded) {
+    row_begin.swap(loaded.row_begin); nbr.swap(loaded.nbr); slot.swap(loaded.slot);
+    wall_begin.swap(loaded.wall_begin); wall.swap(loaded.wall); wall_state.swap(loaded.wall_state);
+    layer_begin.swap(loaded.layer_begin); x_at_build.swap(loaded.x_at_build);
+    build_rounding = loaded.build_rounding;
+    row_of_id_.swap(loaded.row_of_id_);
+    pools.swap(loaded.pools);
+    builds = loaded.builds;
     index_wall_rows();
     detached_ = false;
   }
