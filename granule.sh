@@ -95,13 +95,21 @@ cmd_build() {
   configure_and_build "$dir" "$@"
 }
 
+# ctest_env COMMAND...: ctest -j2 runs two test programs at once, each with an OpenMP team of
+# two threads on the two cores; waiting threads that spin then take the core from the other
+# program. Passive waiting saved 17 % of the CPU time of the 16 slowest sanitizer tests
+# (233 -> 193 s, 2026-12-06). A caller's own OMP_WAIT_POLICY wins.
+ctest_env() {
+  OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-passive}" "$@"
+}
+
 cmd_test() {
   cmd_deps
   local start=$SECONDS
   configure_and_build "$ROOT/build"
   say "build/ configured and built in $((SECONDS - start)) s"
   start=$SECONDS
-  ctest --test-dir "$ROOT/build" --output-on-failure -j2 "$@"
+  ctest_env ctest --test-dir "$ROOT/build" --output-on-failure -j2 "$@"
   say "tests passed in $((SECONDS - start)) s"
 }
 
@@ -116,7 +124,7 @@ cmd_test_sanitize() {
   start=$SECONDS
   ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1}" \
   UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}" \
-    ctest --test-dir "$ROOT/build-sanitize" --output-on-failure -j2 -E '^install_and_consume$' "$@"
+    ctest_env ctest --test-dir "$ROOT/build-sanitize" --output-on-failure -j2 -E '^install_and_consume$' "$@"
   say "sanitizer tests passed in $((SECONDS - start)) s"
 }
 
