@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -158,12 +159,38 @@ inline std::vector<double> to_real_list(const std::string& name, const std::stri
   return out;
 }
 
+/// CLI11's help with the option descriptions wrapped to fit 100 columns (CLI11 2.1 does not wrap).
+class WrappingFormatter : public CLI::Formatter {
+ public:
+  static constexpr std::size_t width = 100;
+  std::string make_option_desc(const CLI::Option* opt) const override {
+    const std::string text = CLI::Formatter::make_option_desc(opt);
+    const std::size_t room = width > get_column_width() + 20 ? width - get_column_width() : 20;
+    std::string out, line;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+      std::size_t end = text.find(' ', start);
+      if (end == std::string::npos) end = text.size();
+      const std::string word = text.substr(start, end - start);
+      if (!line.empty() && line.size() + 1 + word.size() > room) {
+        out += line + "\n";
+        line.clear();
+      }
+      line += (line.empty() ? "" : " ") + word;
+      start = end + 1;
+    }
+    return out + line;
+  }
+};
+
 /// Sets up `app` as every example wants it: repeated options keep the last value (a script may
 /// give a default first and let its caller's arguments override it, as the former hand-written
-/// parsers allowed), and a help column wide enough for the option names.
+/// parsers allowed), and descriptions wrapped beside a column wide enough for the option names.
 inline void configure(CLI::App& app) {
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-  app.get_formatter()->column_width(36);
+  auto formatter = std::make_shared<WrappingFormatter>();
+  formatter->column_width(36);
+  app.formatter(formatter);
 }
 
 /// `--name X`: a real number in `range` stored into `target`; --help shows target's value at
@@ -206,8 +233,9 @@ inline CLI::Option* add_real_list(CLI::App& app, const std::string& name, std::v
   return o;
 }
 
-/// `--name TEXT` stored into `target`; an empty value is refused (a path or a tag).
-inline CLI::Option* add_text(CLI::App& app, const std::string& name, std::string& target, const std::string& help) {
+/// `--name TEXT` stored into `target` (a std::string or a path); an empty value is refused.
+template <class T>
+CLI::Option* add_text(CLI::App& app, const std::string& name, T& target, const std::string& help) {
   CLI::Option* o = app.add_option_function<std::string>(
       name,
       [&target, name](const std::string& s) {
@@ -237,16 +265,6 @@ inline CLI::Option* add_choice(CLI::App& app, const std::string& name, std::stri
       help);
   o->type_name(all);
   return o;
-}
-
-/// True when argv holds `--name` or `--name=...`: for mode options whose preset values the
-/// other options override wherever they stand on the line.
-inline bool given(int argc, char** argv, const std::string& name) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string_view a = argv[i];
-    if (a == name || (a.size() > name.size() && a.substr(0, name.size() + 1) == name + "=")) return true;
-  }
-  return false;
 }
 
 /// Parses argv into the options of `app`, then returns body(). Every failure becomes a message
