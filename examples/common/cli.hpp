@@ -11,7 +11,6 @@
 //      exception, with its message
 //   2  a bad command line: an unknown option, a malformed number, a value out of its range
 #include <charconv>
-#include <cinttypes>
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -244,26 +243,6 @@ CLI::Option* add_text(CLI::App& app, const std::string& name, T& target, const s
       },
       help);
   o->type_name("TEXT");
-  return o;
-}
-
-/// `--name WORD` with WORD one of `choices`, stored into `target`.
-inline CLI::Option* add_choice(CLI::App& app, const std::string& name, std::string& target,
-                               const std::vector<std::string>& choices, const std::string& help) {
-  std::string all;
-  for (const auto& c : choices) all += (all.empty() ? "" : "|") + c;
-  CLI::Option* o = app.add_option_function<std::string>(
-      name,
-      [&target, name, choices, all](const std::string& s) {
-        for (const auto& c : choices)
-          if (s == c) {
-            target = s;
-            return;
-          }
-        throw CLI::ValidationError(name + " = '" + s + "' is not one of " + all);
-      },
-      help);
-  o->type_name(all);
   return o;
 }
 
