@@ -10,7 +10,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 JOBS="${GRANULE_JOBS:-$(nproc 2>/dev/null || echo 2)}"
 # "a|b" means either package will do (python3-paraview ships the same `vtk` Python module as
 # python3-vtk9 and conflicts with it); the first one is installed when none is present.
-DEB_PACKAGES=(build-essential cmake libeigen3-dev catch2 libfftw3-dev libbenchmark-dev
+DEB_PACKAGES=(build-essential cmake libeigen3-dev catch2 libfftw3-dev libbenchmark-dev libcli11-dev
               python3 python3-numpy python3-matplotlib "python3-vtk9|python3-paraview" pkg-config)
 
 say() { printf '[granule.sh] %s\n' "$*" >&2; }

@@ -2,12 +2,16 @@
 // write what happened: a CSV time series (kinetic energy, contacts, bed height) and VTK frames
 // (particles and contact network) for ParaView or OVITO.
 //
-//   02_pour_settle [--2d] [--particles N] [--rate R] [--out DIR] [--vtk-every N]
+//   02_pour_settle [--2d] [--particles N] [--rate R] [--out DIR] [--vtk-every N] [--threads N]
+#include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
+#include <numbers>
 #include <string>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include <granule/granule.hpp>
 #include <granule/io/csv.hpp>
@@ -16,7 +20,10 @@
 #include <granule/scene/pour.hpp>
 #include <granule/scene/settle.hpp>
 
+#include "../common/cli.hpp"
+
 using namespace granule;
+namespace cli = granule::examples::cli;
 
 template <class D>
 int run(std::size_t n, double rate, const std::filesystem::path& out, int vtk_every) {
@@ -80,9 +87,18 @@ int run(std::size_t n, double rate, const std::filesystem::path& out, int vtk_ev
   const auto settled = scene::settle(sim, so);
   progress.finish(sim.step_count(), sim.time());
 
-  std::printf("%zu particles poured in %.3f s, settled %s after %.3f s more; bed height %.4f m, %zu contacts\n",
-              pour.inserted(), sim.time() - settled.time, settled.settled ? "yes" : "no (time limit)",
-              settled.time, scene::surface_height(sim, up), sim.contact_count());
+  // Packing fraction of the bed: grain volume (area in 2D) over the box section times the bed
+  // height, taken as the mean top of the highest grains (scene::surface_height).
+  const auto& p = sim.particles();
+  double grains = 0.0;
+  for (std::size_t i = 0; i < p.owned(); ++i)
+    grains += D::dim == 3 ? 4.0 / 3.0 * std::numbers::pi * std::pow(p.radius[i], 3) : std::numbers::pi * p.radius[i] * p.radius[i];
+  const double bed = scene::surface_height(sim, up);
+  const double section = D::dim == 3 ? w * w : w;
+  std::printf("%zu particles poured in %.3f s, settled %s after %.3f s more; bed height %.4f m, packing fraction "
+              "%.3f, %zu contacts\n",
+              pour.inserted(), sim.time() - settled.time, settled.settled ? "yes" : "no (time limit)", settled.time,
+              bed, grains / (section * bed), sim.contact_count());
   std::printf("output in %s\n", out.string().c_str());
   return settled.settled ? 0 : 1;
 }
@@ -91,24 +107,23 @@ int main(int argc, char** argv) {
   bool two_d = false;
   std::size_t n = 2000;
   double rate = 4000.0;
-  std::filesystem::path out = "out/02_pour_settle";
+  std::string out = "out/02_pour_settle";
   int vtk_every = 2000;
-  for (int a = 1; a < argc; ++a) {
-    const std::string arg = argv[a];
-    auto next = [&]() -> std::string {
-      if (a + 1 >= argc) { std::fprintf(stderr, "%s needs a value\n", arg.c_str()); std::exit(2); }
-      return argv[++a];
-    };
-    if (arg == "--2d") two_d = true;
-    else if (arg == "--particles") n = std::stoul(next());
-    else if (arg == "--rate") rate = std::stod(next());
-    else if (arg == "--out") out = next();
-    else if (arg == "--vtk-every") vtk_every = std::stoi(next());
-    else {
-      std::printf("usage: 02_pour_settle [--2d] [--particles N (2000)] [--rate R particles/s (4000)]\n"
-                  "                      [--out DIR (out/02_pour_settle)] [--vtk-every steps (2000; 0 = off)]\n");
-      return arg == "--help" ? 0 : 2;
-    }
-  }
-  return two_d ? run<Dim2>(n, rate, out, vtk_every) : run<Dim3>(n, rate, out, vtk_every);
+  int threads = 0;
+  CLI::App app("Pours glass beads (radius 0.8-1.2 mm) into a 3 x 3 x 12 cm box and lets them settle; writes "
+               "a CSV time series and VTK frames into --out.",
+               "02_pour_settle");
+  cli::configure(app);
+  app.add_flag("--2d", two_d, "disks in a 3 x 12 cm cell instead of spheres");
+  cli::add_whole<std::size_t>(app, "--particles", n, "particles to pour [-]", 1, 10'000'000);
+  cli::add_real(app, "--rate", rate, "particles inserted per second [1/s]", cli::positive());
+  cli::add_text(app, "--out", out, "output directory")->default_str(out);
+  cli::add_whole(app, "--vtk-every", vtk_every, "steps between VTK frames (0: none) [-]", 0);
+  cli::add_whole(app, "--threads", threads, "OpenMP threads (default: OpenMP's choice) [-]", 1, 1024, false);
+  return cli::run(app, argc, argv, [&] {
+#ifdef _OPENMP
+    if (threads > 0) omp_set_num_threads(threads);
+#endif
+    return two_d ? run<Dim2>(n, rate, out, vtk_every) : run<Dim3>(n, rate, out, vtk_every);
+  });
 }

@@ -14,6 +14,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #ifdef _OPENMP
@@ -22,19 +23,15 @@
 
 #include <granule/io/progress.hpp>
 
+#include "../common/cli.hpp"
 #include "study.hpp"
 
 using namespace granule;
+namespace cli = granule::examples::cli;
 namespace po = granule::examples::pull_out;
 namespace fs = std::filesystem;
 
 namespace {
-
-/// A malformed or out-of-range command-line argument: exit code 2.
-class UsageError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 enum class Mode { Quick, Medium, Paper };
 
@@ -54,99 +51,13 @@ struct Options {
   std::string physics_option;
 };
 
-void usage(std::FILE* f) {
-  std::fprintf(f, R"(usage: intruder_pull_out_2d [options]
-
-A thin intruder (L = 10 mm) lying on the floor of a 2D bed of disks (d = 3 mm, radii uniform in
-[1, 2] mm) is pulled up at constant speed V (paper 002). Prints the drag statistics, mu*, the
-flow zones and the cone angle, and writes CSV files into --out.
-
-modes
-  (none)                   quick: W = 40 mm, bed 50 mm (213 disks), E = 6e7 Pa, V = 20 mm/s (~10 s)
-  --medium                 002's cell and bed (W = 100 mm, 150 mm, 1600 disks), quick E and V (~3 min)
-  --paper                  002's values: W = 100 mm, bed 150 mm, E = 64 GPa, V = 1.2 mm/s and its
-                           step dt_c / 60 (~1e10 steps: hundreds of hours; the estimate is printed)
-  --study TAG              the convergence study, case by case (TAG: convergence, dtcheck; see
-                           README.md); a rerun skips the cases done
-  --list                   with --study: print the cases and their estimated cost, run nothing
-  --results DIR            with --study: result directory (default OUT/results/TAG)
-  --cases A,B,...          with --study: run only these cases (names as --list prints them)
-  --restat DIR             compute the statistics again from the files of a run or study case
-                           in DIR (summary.csv with samples.csv or drag.csv) and rewrite its
-                           summary.csv; may be repeated; runs nothing
-  --ns-per-particle-step X with --study: cost rate for the estimates until one is measured (94)
-options (units in brackets; later options override a mode's values)
-  --width M                cell width W [m]
-  --bed-height M           target bed height H [m]
-  --E PA                   Young's modulus, k_n = E d [Pa]
-  --thickness M            disk thickness t [m] (default 0.009 = 3 d: what 002's step implies)
-  --velocity M/S           pull-out speed V [m/s]
-  --dt-rule engine|paper   step of the pull: engine = 0.2 x the linear critical time of the
-                           lightest pair (default), paper = 002's dt_c / 60, dt_c = sqrt(m_min/k_n)
-  --dt S                   step of the pull [s] (overrides --dt-rule)
-  --sample-travel M        intruder travel per drag sample [m] (quick 2e-4, medium/paper 1e-4)
-  --cg-width X             coarse-graining kernel width w / d [-] (default 1.5, 002 section 2.5;
-                           the former 0.5 remains available)
-  --quiet-fraction Q       a drop larger than Q x peak is a fluctuation [-] (default 0.02)
-  --fill-rate N            disks released per second while filling [1/s]; 0: all at once
-  --fill-source-width M    width of the release region, centred [m]; 0: whole cell
-  --fill-release-height M  height of the release region above the floor [m]; 0: 3 x bed
-  --fill-friction MU       friction while filling (mu restored before settling) [-]; < 0: mu
-  --seed N                 insertion seed (default 1)
-  --threads N              OpenMP threads (default 1; the engine runs 1600 disks on one)
-  --out DIR                output directory (default out/intruder_pull_out_2d)
-  --help                   this text
-exit codes: 0 done, 1 the run failed (the message names the cause), 2 bad arguments
-)");
-}
-
-// Strict number parsing: the whole text must be a finite number.
-double number(const std::string& opt, const std::string& text) {
-  std::size_t used = 0;
-  double v = 0.0;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (text.empty() || used != text.size() || !std::isfinite(v))
-    throw UsageError(opt + " " + text + ": not a number");
-  return v;
-}
-double positive(const std::string& opt, const std::string& text, const char* unit) {
-  const double v = number(opt, text);
-  if (!(v > 0.0)) throw UsageError(opt + " " + text + ": must be positive [" + unit + "]");
-  return v;
-}
-double non_negative(const std::string& opt, const std::string& text, const char* unit) {
-  const double v = number(opt, text);
-  if (!(v >= 0.0)) throw UsageError(opt + " " + text + ": must be zero or positive [" + unit + "]");
-  return v;
-}
-std::uint64_t whole(const std::string& opt, const std::string& text, std::uint64_t lo) {
-  std::size_t used = 0;
-  unsigned long long v = 0;
-  const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
-  try {
-    if (digits) v = std::stoull(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (!digits || used != text.size() || v < lo)
-    throw UsageError(opt + " " + text + ": must be a whole number >= " + std::to_string(lo));
-  return v;
-}
-
-Options parse(int argc, char** argv) {
-  Options o;
-  // Modes first, so that the other options override their values wherever they stand.
+// --paper and --medium set their values first, wherever they stand on the line, so that the
+// other options override them; of the two, the later one counts.
+void set_mode(int argc, char** argv, Options& o) {
   for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--paper") {
-      o.mode = Mode::Paper;
-    } else if (a == "--medium") {
-      o.mode = Mode::Medium;
-    }
+    const std::string_view a = argv[i];
+    if (a == "--paper") o.mode = Mode::Paper;
+    if (a == "--medium") o.mode = Mode::Medium;
   }
   if (o.mode == Mode::Paper) {
     o.p = po::paper_params();
@@ -157,119 +68,155 @@ Options parse(int argc, char** argv) {
     o.p.fill_rate = q.fill_rate;
     o.p.sample_travel = q.sample_travel;
   }
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw UsageError(a + ": needs a value");
-      return argv[++i];
-    };
-    auto physics = [&]() {
+}
+
+// The options that change the scene (a study's cases set it; --restat runs nothing).
+const std::vector<std::string> physics_options = {
+    "--paper",     "--medium",    "--width",         "--bed-height",        "--E",
+    "--thickness", "--velocity",  "--dt-rule",       "--dt",                "--sample-travel",
+    "--cg-width",  "--fill-rate", "--fill-source-width", "--fill-release-height", "--fill-friction",
+    "--seed"};
+
+// The options, bound to `o`; --help shows the values of the mode given (quick without one).
+void add_options(CLI::App& app, Options& o) {
+  app.description(
+      "A thin intruder (L = 10 mm) lying on the floor of a 2D bed of disks (d = 3 mm, radii uniform in\n"
+      "[1, 2] mm) is pulled up at constant speed V (paper 002). Prints the drag statistics, mu*, the\n"
+      "flow zones and the cone angle, and writes CSV files into --out.\n\n"
+      "Without a mode: quick, W = 40 mm, bed 50 mm (213 disks), E = 6e7 Pa, V = 20 mm/s (~10 s).");
+  app.footer("Defaults shown are those of the mode given (quick without one); later options override a\n"
+             "mode's values wherever the mode stands. Exit codes: 0 done, 1 the run failed (the message\n"
+             "names the cause), 2 bad arguments.");
+  const std::string modes = "modes";
+  const std::string scene = "options (units in brackets)";
+  // The modes' values are set by set_mode; the flags are here for --help and check_options.
+  app.add_flag_callback("--medium", [] {}, "002's cell and bed (W = 100 mm, 150 mm, 1600 disks), quick E and V (~3 min)")
+      ->group(modes);
+  app.add_flag_callback("--paper", [] {},
+                        "002's values: W = 100 mm, bed 150 mm, E = 64 GPa, V = 1.2 mm/s and its step dt_c / 60 "
+                        "(~1e10 steps: hundreds of hours; the estimate is printed)")
+      ->group(modes);
+  app.add_option_function<std::string>(
+         "--study",
+         [&o](const std::string& tag) {
+           try {
+             (void)po::study_cases(tag);
+           } catch (const InvalidParameter&) {
+             throw CLI::ValidationError("--study = '" + tag + "' is not a study (convergence, dtcheck)");
+           }
+           o.study = tag;
+         },
+         "the convergence study, case by case (TAG: convergence, dtcheck; see README.md); a rerun skips "
+         "the cases done")
+      ->type_name("TAG")
+      ->group(modes);
+  app.add_flag("--list", o.list, "with --study: print the cases and their estimated cost, run nothing")->group(modes);
+  cli::add_text(app, "--results", o.results, "with --study: result directory (default OUT/results/TAG)")
+      ->type_name("DIR")
+      ->group(modes);
+  app.add_option_function<std::string>(
+         "--cases",
+         [&o](const std::string& v) {
+           std::stringstream ss(v);
+           o.cases.clear();
+           for (std::string item; std::getline(ss, item, ',');)
+             if (!item.empty()) o.cases.push_back(item);
+           if (o.cases.empty()) throw CLI::ValidationError("--cases = '" + v + "' names no case");
+         },
+         "with --study: run only these cases (names as --list prints them)")
+      ->type_name("A,B,...")
+      ->group(modes);
+  app.add_option_function<std::vector<std::string>>(
+         "--restat",
+         [&o](const std::vector<std::string>& dirs) {
+           for (const auto& d : dirs) {
+             if (d.empty() || !fs::is_directory(d)) throw CLI::ValidationError("--restat = '" + d + "' is not a directory");
+             o.restat.emplace_back(d);
+           }
+         },
+         "compute the statistics again from the files of a run or study case in DIR (summary.csv with "
+         "samples.csv or drag.csv) and rewrite its summary.csv; may be repeated; runs nothing")
+      ->type_name("DIR")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->group(modes);
+  cli::add_real(app, "--ns-per-particle-step", o.ns_per_particle_step,
+                "with --study: cost rate for the estimates until one is measured", cli::positive())
+      ->group(modes);
+
+  cli::add_real(app, "--width", o.p.cell_width, "cell width W [m]", cli::positive())->group(scene);
+  cli::add_real(app, "--bed-height", o.p.bed_height, "target bed height H [m]", cli::positive())->group(scene);
+  cli::add_real(app, "--E", o.p.youngs_modulus, "Young's modulus, k_n = E d [Pa]", cli::positive())->group(scene);
+  cli::add_real(app, "--thickness", o.p.thickness, "disk thickness t [m] (3 d: what 002's step implies)",
+                cli::positive())
+      ->group(scene);
+  cli::add_real(app, "--velocity", o.p.pull_velocity, "pull-out speed V [m/s]", cli::positive())->group(scene);
+  app.add_option_function<std::string>(
+         "--dt-rule",
+         [&o](const std::string& r) {
+           if (r == "engine") {
+             o.p.dt_rule = po::TimeStepRule::Engine;
+           } else if (r == "paper") {
+             o.p.dt_rule = po::TimeStepRule::Paper;
+           } else {
+             throw CLI::ValidationError("--dt-rule = '" + r + "' is not one of engine|paper");
+           }
+         },
+         "step of the pull: engine = 0.2 x the linear critical time of the lightest pair, paper = 002's "
+         "dt_c / 60, dt_c = sqrt(m_min/k_n)")
+      ->type_name("engine|paper")
+      ->default_str(o.p.dt_rule == po::TimeStepRule::Paper ? "paper" : "engine")
+      ->group(scene);
+  cli::add_real(app, "--dt", o.p.dt, "step of the pull [s] (overrides --dt-rule)", cli::positive(), o.p.dt > 0.0)
+      ->group(scene);
+  cli::add_real(app, "--sample-travel", o.p.sample_travel, "intruder travel per drag sample [m]", cli::positive())
+      ->group(scene);
+  cli::add_real(app, "--cg-width", o.p.cg_width,
+                "coarse-graining kernel width w / d [-] (002 section 2.5; the former 0.5 remains available)",
+                cli::positive())
+      ->group(scene);
+  cli::add_real(app, "--quiet-fraction", o.stats.quiet_fraction,
+                "a drop larger than Q x peak is a fluctuation [-]", cli::Range{0.0, 1.0, false, false})
+      ->type_name("Q")
+      ->group(scene);
+  cli::add_real(app, "--fill-rate", o.p.fill_rate, "disks released per second while filling [1/s]; 0: all at once",
+                cli::non_negative())
+      ->group(scene);
+  cli::add_real(app, "--fill-source-width", o.p.fill_source_width,
+                "width of the release region, centred [m]; 0: whole cell", cli::non_negative())
+      ->group(scene);
+  cli::add_real(app, "--fill-release-height", o.p.fill_release_height,
+                "height of the release region above the floor [m]; 0: 3 x bed", cli::non_negative())
+      ->group(scene);
+  cli::add_real(app, "--fill-friction", o.p.fill_friction,
+                "friction while filling (mu restored before settling) [-]; < 0: mu")
+      ->group(scene);
+  cli::add_whole<std::uint64_t>(app, "--seed", o.p.seed, "insertion seed", 1)->group(scene);
+  cli::add_whole(app, "--threads", o.threads, "OpenMP threads (the engine runs 1600 disks on one)", 1, 1024)
+      ->group(scene);
+  cli::add_text(app, "--out", o.out, "output directory")->type_name("DIR")->default_str(o.out.string())->group(scene);
+}
+
+// The combinations the parser cannot check option by option (exit code 2).
+void check_options(const CLI::App& app, Options& o) {
+  for (const auto& name : physics_options)
+    if (app.count(name) > 0) {
       o.physics_set = true;
-      if (o.physics_option.empty()) o.physics_option = a;
-    };
-    if (a == "--help" || a == "-h") {
-      usage(stdout);
-      std::exit(0);
-    } else if (a == "--paper" || a == "--medium") {
-      physics();
-    } else if (a == "--study") {
-      o.study = value();
-      try {
-        (void)po::study_cases(o.study);
-      } catch (const InvalidParameter&) {
-        throw UsageError("--study " + o.study + ": unknown tag (convergence, dtcheck)");
-      }
-    } else if (a == "--restat") {
-      o.restat.emplace_back(value());
-      if (!fs::is_directory(o.restat.back())) throw UsageError("--restat " + o.restat.back().string() + ": not a directory");
-    } else if (a == "--list") {
-      o.list = true;
-    } else if (a == "--cases") {
-      std::string v = value(), item;
-      std::stringstream ss(v);
-      while (std::getline(ss, item, ','))
-        if (!item.empty()) o.cases.push_back(item);
-      if (o.cases.empty()) throw UsageError("--cases " + v + ": no case name");
-    } else if (a == "--results") {
-      o.results = value();
-      if (o.results.empty()) throw UsageError("--results: empty directory name");
-    } else if (a == "--ns-per-particle-step") {
-      o.ns_per_particle_step = positive(a, value(), "ns");
-    } else if (a == "--width") {
-      physics();
-      o.p.cell_width = positive(a, value(), "m");
-    } else if (a == "--bed-height") {
-      physics();
-      o.p.bed_height = positive(a, value(), "m");
-    } else if (a == "--E") {
-      physics();
-      o.p.youngs_modulus = positive(a, value(), "Pa");
-    } else if (a == "--thickness") {
-      physics();
-      o.p.thickness = positive(a, value(), "m");
-    } else if (a == "--velocity") {
-      physics();
-      o.p.pull_velocity = positive(a, value(), "m/s");
-    } else if (a == "--dt-rule") {
-      physics();
-      const std::string r = value();
-      if (r == "engine") {
-        o.p.dt_rule = po::TimeStepRule::Engine;
-      } else if (r == "paper") {
-        o.p.dt_rule = po::TimeStepRule::Paper;
-      } else {
-        throw UsageError("--dt-rule " + r + ": expected engine or paper");
-      }
-    } else if (a == "--dt") {
-      physics();
-      o.p.dt = positive(a, value(), "s");
-    } else if (a == "--sample-travel") {
-      physics();
-      o.p.sample_travel = positive(a, value(), "m");
-    } else if (a == "--cg-width") {
-      physics();
-      o.p.cg_width = positive(a, value(), "d");
-    } else if (a == "--quiet-fraction") {
-      const double q = positive(a, value(), "-");
-      if (!(q < 1.0)) throw UsageError(a + " " + argv[i] + ": must be below 1");
-      o.stats.quiet_fraction = q;
-    } else if (a == "--fill-rate") {
-      physics();
-      o.p.fill_rate = non_negative(a, value(), "1/s");
-    } else if (a == "--fill-source-width") {
-      physics();
-      o.p.fill_source_width = non_negative(a, value(), "m");
-    } else if (a == "--fill-release-height") {
-      physics();
-      o.p.fill_release_height = non_negative(a, value(), "m");
-    } else if (a == "--fill-friction") {
-      physics();
-      o.p.fill_friction = number(a, value());
-    } else if (a == "--seed") {
-      physics();
-      o.p.seed = whole(a, value(), 1);
-    } else if (a == "--threads") {
-      o.threads = static_cast<int>(whole(a, value(), 1));
-    } else if (a == "--out") {
-      o.out = value();
-      if (o.out.empty()) throw UsageError("--out: empty directory name");
-    } else {
-      throw UsageError("unknown option '" + a + "'");
+      o.physics_option = name;
+      break;
     }
-  }
   if (!o.restat.empty() && (!o.study.empty() || o.physics_set))
-    throw UsageError("--restat: runs nothing, so it takes no mode or scene option (only --quiet-fraction)");
+    throw cli::UsageError("--restat: runs nothing, so it takes no mode or scene option (only --quiet-fraction)");
   if (!o.study.empty() && o.physics_set)
-    throw UsageError(o.physics_option + ": not used with --study (the study's cases set the scene)");
+    throw cli::UsageError(o.physics_option + ": not used with --study (the study's cases set the scene)");
   if (o.study.empty() && (o.list || !o.results.empty() || !o.cases.empty()))
-    throw UsageError(std::string(o.list ? "--list" : !o.cases.empty() ? "--cases" : "--results") + ": only with --study");
+    throw cli::UsageError(std::string(o.list ? "--list" : !o.cases.empty() ? "--cases" : "--results") +
+                          ": only with --study");
   if (!o.study.empty())
     for (const auto& c : o.cases) {
       const auto all = po::study_cases(o.study);
       if (std::none_of(all.begin(), all.end(), [&](const po::StudyCase& x) { return x.name == c; }))
-        throw UsageError("--cases: '" + c + "' is not a case of study " + o.study + " (see --list)");
+        throw cli::UsageError("--cases: '" + c + "' is not a case of study " + o.study + "; --list prints them");
     }
-  return o;
 }
 
 std::string mm(double m) { return po::study_detail::num(m * 1e3, 4) + " mm"; }
@@ -546,16 +493,15 @@ int run_study(const Options& o) {
 
 int main(int argc, char** argv) {
   Options o;
-  try {
-    o = parse(argc, argv);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "intruder_pull_out_2d: %s (see --help)\n", e.what());
-    return 2;
-  }
+  set_mode(argc, argv, o);
+  CLI::App app("", "intruder_pull_out_2d");
+  cli::configure(app);
+  add_options(app, o);
+  return cli::run(app, argc, argv, [&] {
+    check_options(app, o);
 #ifdef _OPENMP
-  omp_set_num_threads(o.threads);
+    omp_set_num_threads(o.threads);
 #endif
-  try {
     if (!o.restat.empty()) {
       for (const auto& dir : o.restat) {
         const auto a = po::restat(dir, o.stats);
@@ -566,8 +512,5 @@ int main(int argc, char** argv) {
       return 0;
     }
     return o.study.empty() ? run_single(o) : run_study(o);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "intruder_pull_out_2d: %s\n", e.what());
-    return 1;
-  }
+  });
 }

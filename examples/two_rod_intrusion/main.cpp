@@ -10,6 +10,7 @@
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #ifdef _OPENMP
@@ -18,9 +19,11 @@
 
 #include <granule/io/csv.hpp>
 
+#include "../common/cli.hpp"
 #include "study.hpp"
 
 namespace tr = granule::examples::two_rod;
+namespace cli = granule::examples::cli;
 using granule::io::CsvColumn;
 using granule::io::CsvWriter;
 
@@ -104,185 +107,156 @@ void set_study(Options& o) {
   o.gaps = {0, 1, 2, 3, 4, 5, 6, 8, 11, 15};
 }
 
-void usage() {
-  std::cout <<
-R"(usage: two_rod_intrusion [options]
-
-Two parallel rods (axes along x, surface-to-surface gap s along y) pushed down at constant
-speed into a poured bed of spheres (Pravin et al. 2020). For every gap of the sweep it writes
-F(z), the net work W = integral F dz, and at half depth the normal-force PDF, the number of
-very strong forces (f_n > 6 <f_n>), V_y and V_z profiles below the rods and a strain-rate map.
-The bed is poured once and cached as bed_<hash>.ckpt in the output directory.
-
-modes
-  (none)                 quick mode, a few minutes on 2 cores: d = 4 mm, 10 x 12 cm box
-                         filled to 5 cm, rods 5 mm x 5 cm to 2.5 cm depth, s/d = 0,1,2,3,5,8
-  --paper                paper 000 table I: d = 2 mm, 25 x 25 cm box filled to 10 cm,
-                         depth 8 cm, dt = 5e-6 s, s/d = 0..20 (~9e5 grains: days of CPU)
-                         (given first, later options override its values)
-  --study TAG            the paper-scale study: table I in a 9 x 9 cm box filled to 10 cm,
-                         beds poured to phi ~ 0.62, s/d = 0,1,2,3,4,5,6,8,11,15 and a single
-                         rod on every bed of --seeds; one result file per case under
-                         --results (a rerun skips the cases done), then W(s/d) over the beds
-                         (later options override its values; see README.md)
-  --seeds a,b,...        beds (pouring seeds) of the study                 (default 1,2,3)
-  --aggregate-only       study: write the summaries from the result files already there
-  --results DIR          the study's result directory        (default OUT/results/TAG)
-  --density RHO          grain density [kg/m^3]                        (default 1100)
-  --pour-mu MU           friction while the bed is poured [-]         (default: --mu)
-  --pour-dt DT           time step while the bed is poured [s]        (default: --dt)
-options (units in brackets)
-  --d D                  particle diameter [m]
-  --width D              rod width or diameter [m]                     (default 0.005)
-  --length L             rod length [m]                                (default 0.05)
-  --gap-list a,b,...     gaps s/d to sweep [-]
-  --shape square|cylinder  rod cross-section                           (default square)
-  --depth Z              final depth of the rods' bottom [m]
-  --speed U              intrusion speed [m/s]                         (default 1)
-  --mu MU                friction coefficient of grains and walls [-]  (default 0.5)
-  --dt DT                time step [s]
-  --skin S               Verlet skin of the intrusions / d (default: study 0.4, else 0.1)
-  --box LX,LY,H          container length (along rods), width, fill height [m]
-  --seed N               seed of the pouring jitter [-]                (default 1)
-  --no-single            skip the single-rod reference run
-  --no-analysis          skip the half-depth analysis (PDF, profiles, strain rate)
-  --threads N            OpenMP threads [-]                            (default 2)
-  --out DIR              output directory (default out/two_rod_intrusion, or . when the
-                         working directory already is out/two_rod_intrusion)
-  --vtk-every N          write particle and rod VTK frames every N steps [-] (0: none)
-  --quiet                no progress on stderr
-  --help                 this text
-)";
+std::string gap_text(double g) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", g);
+  return buf;
 }
 
-std::vector<double> parse_list(const std::string& s) {
-  std::vector<double> v;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ',')) v.push_back(std::stod(item));
-  return v;
-}
-
-double number(const std::string& opt, const std::string& text) {
-  std::size_t used = 0;
-  double v = 0.0;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size()) throw granule::InvalidParameter(opt + " expects a number, got '" + text + "'");
-  return v;
-}
-
-Options parse(int argc, char** argv) {
-  Options o;
-  set_quick(o);
-  for (int i = 1; i < argc; ++i)
-    if (std::string(argv[i]) == "--paper") {
+// --paper and --study set a mode's values first, wherever they stand on the line, so that every
+// other option overrides them; if both are given, the later one sets the values.
+void set_mode(int argc, char** argv, Options& o) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view a = argv[i];
+    if (a == "--paper") {
       set_paper(o);
       o.paper = true;
-    } else if (std::string(argv[i]) == "--study") {
+    } else if (a == "--study" || a.starts_with("--study=")) {
       set_study(o);
     }
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw granule::InvalidParameter(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--help" || a == "-h") {
-      usage();
-      std::exit(0);
-    } else if (a == "--paper") {
-    } else if (a == "--study") {
-      o.study = value();
-      if (o.study.empty() || o.study.find_first_of("/\\ ") != std::string::npos)
-        throw granule::InvalidParameter("--study expects a tag without '/', '\\' or spaces, got '" + o.study + "'");
-    } else if (a == "--aggregate-only") {
-      o.aggregate_only = true;
-    } else if (a == "--seeds") {
-      o.seeds = parse_list(value());
-    } else if (a == "--results") {
-      o.results = value();
-    } else if (a == "--density") {
-      o.bed.density = number(a, value());
-    } else if (a == "--pour-dt") {
-      o.bed.pour_dt = number(a, value());
-    } else if (a == "--d") {
-      o.bed.diameter = number(a, value());
-    } else if (a == "--width") {
-      o.rod.width = number(a, value());
-    } else if (a == "--length") {
-      o.rod.length = number(a, value());
-    } else if (a == "--gap-list") {
-      o.gaps = parse_list(value());
-    } else if (a == "--shape") {
-      const std::string s = value();
-      if (s == "square") {
-        o.rod.shape = tr::RodShape::Square;
-      } else if (s == "cylinder") {
-        o.rod.shape = tr::RodShape::Cylinder;
-      } else {
-        throw granule::InvalidParameter("--shape is '" + s + "', valid: square, cylinder");
-      }
-    } else if (a == "--depth") {
-      o.rod.depth = number(a, value());
-    } else if (a == "--speed") {
-      o.rod.speed = number(a, value());
-    } else if (a == "--mu") {
-      o.bed.friction = number(a, value());
-    } else if (a == "--pour-mu") {
-      o.bed.pour_friction = number(a, value());
-    } else if (a == "--dt") {
-      o.bed.dt = number(a, value());
-    } else if (a == "--skin") {
-      o.bed.skin = number(a, value());
-    } else if (a == "--box") {
-      const auto v = parse_list(value());
-      if (v.size() != 3) throw granule::InvalidParameter("--box expects LX,LY,H [m]");
-      o.bed.length_x = v[0];
-      o.bed.length_y = v[1];
-      o.bed.fill_height = v[2];
-    } else if (a == "--seed") {
-      o.bed.seed = static_cast<std::uint64_t>(number(a, value()));
-    } else if (a == "--no-single") {
-      o.single = false;
-    } else if (a == "--no-analysis") {
-      o.analysis = false;
-    } else if (a == "--threads") {
-      o.threads = static_cast<int>(number(a, value()));
-    } else if (a == "--out") {
-      o.out = value();
-    } else if (a == "--vtk-every") {
-      o.vtk_every = static_cast<std::uint64_t>(number(a, value()));
-    } else if (a == "--quiet") {
-      o.quiet = true;
-    } else {
-      throw granule::InvalidParameter("unknown option '" + a + "' (see --help)");
-    }
   }
-  if (o.gaps.empty()) throw granule::InvalidParameter("--gap-list is empty");
-  for (double g : o.gaps)
-    if (!(g >= 0.0)) throw granule::InvalidParameter("gaps s/d must be >= 0");
+}
+
+// The options, bound to `o`; --help shows the values of the mode given (quick without one).
+void add_options(CLI::App& app, Options& o) {
+  app.description(
+      "Two parallel rods (axes along x, surface-to-surface gap s along y) pushed down at constant\n"
+      "speed into a poured bed of spheres (Pravin et al. 2020). For every gap of the sweep it writes\n"
+      "F(z), the net work W = integral F dz, and at half depth the normal-force PDF, the number of\n"
+      "very strong forces (f_n > 6 <f_n>), V_y and V_z profiles below the rods and a strain-rate map.\n"
+      "The bed is poured once and cached as bed_<hash>.ckpt in the output directory.\n\n"
+      "Without a mode: quick mode, a few minutes on 2 cores: d = 4 mm, 10 x 12 cm box filled to 5 cm,\n"
+      "rods 5 mm x 5 cm to 2.5 cm depth, s/d = 0,1,2,3,5,8.");
+  app.footer("Defaults shown are those of the mode given (quick without one); later options override a\n"
+             "mode's values wherever the mode stands. Exit codes: 0 done, 1 the run failed (the message\n"
+             "names the cause), 2 bad arguments.");
+  const std::string modes = "modes";
+  const std::string study = "the paper-scale study (--study)";
+  const std::string scene = "options (units in brackets)";
+  app.add_flag("--paper", o.paper,  // its values are set by set_mode
+               "paper 000 table I: d = 2 mm, 25 x 25 cm box filled to 10 cm, depth 8 cm, dt = 5e-6 s, "
+               "s/d = 0..20 (~9e5 grains: days of CPU)")
+      ->group(modes);
+  app.add_option_function<std::string>(
+         "--study",
+         [&o](const std::string& tag) {
+           if (tag.empty() || tag.find_first_of("/\\ ") != std::string::npos)
+             throw CLI::ValidationError("--study = '" + tag + "' is not a tag (no '/', '\\' or spaces)");
+           o.study = tag;
+         },
+         "the paper-scale study: table I in a 9 x 9 cm box filled to 10 cm, beds poured to phi ~ 0.62, "
+         "s/d = 0,1,2,3,4,5,6,8,11,15 and a single rod on every bed of --seeds; one result file per case "
+         "under --results (a rerun skips the cases done), then W(s/d) over the beds (see README.md)")
+      ->type_name("TAG")
+      ->group(modes);
+  cli::add_real_list(app, "--seeds", o.seeds, "beds (pouring seeds) of the study, whole numbers >= 1",
+                     cli::at_least(1.0))
+      ->default_str("1,2,3")
+      ->group(study);
+  app.add_flag("--aggregate-only", o.aggregate_only, "write the summaries from the result files already there")
+      ->group(study);
+  cli::add_text(app, "--results", o.results, "the study's result directory (default OUT/results/TAG)")
+      ->type_name("DIR")
+      ->group(study);
+  cli::add_real(app, "--density", o.bed.density, "grain density [kg/m^3]", cli::positive())->group(study);
+  cli::add_real(app, "--pour-mu", o.bed.pour_friction, "friction while the bed is poured [-] (default: --mu)",
+                cli::non_negative(), o.bed.pour_friction >= 0.0)
+      ->group(study);
+  cli::add_real(app, "--pour-dt", o.bed.pour_dt, "time step while the bed is poured [s] (default: --dt)",
+                cli::positive(), o.bed.pour_dt > 0.0)
+      ->group(study);
+  cli::add_real(app, "--d", o.bed.diameter, "particle diameter [m]", cli::positive())->group(scene);
+  cli::add_real(app, "--width", o.rod.width, "rod width or diameter [m]", cli::positive())->group(scene);
+  cli::add_real(app, "--length", o.rod.length, "rod length [m]", cli::positive())->group(scene);
+  std::string gaps;
+  for (double g : o.gaps) gaps += (gaps.empty() ? "" : ",") + gap_text(g);
+  cli::add_real_list(app, "--gap-list", o.gaps, "gaps s/d to sweep [-]", cli::non_negative())
+      ->default_str(gaps)
+      ->group(scene);
+  app.add_option_function<std::string>(
+         "--shape",
+         [&o](const std::string& s) {
+           if (s == "square") {
+             o.rod.shape = tr::RodShape::Square;
+           } else if (s == "cylinder") {
+             o.rod.shape = tr::RodShape::Cylinder;
+           } else {
+             throw CLI::ValidationError("--shape = '" + s + "' is not one of square|cylinder");
+           }
+         },
+         "rod cross-section")
+      ->type_name("square|cylinder")
+      ->default_str("square")
+      ->group(scene);
+  cli::add_real(app, "--depth", o.rod.depth, "final depth of the rods' bottom [m]", cli::positive())->group(scene);
+  cli::add_real(app, "--speed", o.rod.speed, "intrusion speed [m/s]", cli::positive())->group(scene);
+  cli::add_real(app, "--mu", o.bed.friction, "friction coefficient of grains and walls [-]", cli::non_negative())
+      ->group(scene);
+  cli::add_real(app, "--dt", o.bed.dt, "time step [s]", cli::positive())->group(scene);
+  cli::add_real(app, "--skin", o.bed.skin, "Verlet skin of the intrusions / d (default: study 0.4, else 0.1)",
+                cli::closed(0.0, 2.0), o.bed.skin >= 0.0)
+      ->group(scene);
+  app.add_option_function<std::string>(
+         "--box",
+         [&o](const std::string& s) {
+           const auto v = cli::to_real_list("--box", s, cli::positive());
+           if (v.size() != 3)
+             throw CLI::ValidationError("--box = '" + s + "' has " + std::to_string(v.size()) +
+                                        " values, expected LX,LY,H");
+           o.bed.length_x = v[0];
+           o.bed.length_y = v[1];
+           o.bed.fill_height = v[2];
+         },
+         "container length (along rods), width, fill height [m]")
+      ->type_name("LX,LY,H")
+      ->default_str(gap_text(o.bed.length_x) + "," + gap_text(o.bed.length_y) + "," + gap_text(o.bed.fill_height))
+      ->group(scene);
+  cli::add_whole<std::uint64_t>(app, "--seed", o.bed.seed, "seed of the pouring jitter [-]", 0)->group(scene);
+  app.add_flag_callback("--no-single", [&o] { o.single = false; }, "skip the single-rod reference run")
+      ->group(scene);
+  app.add_flag_callback("--no-analysis", [&o] { o.analysis = false; },
+                        "skip the half-depth analysis (PDF, profiles, strain rate)")
+      ->group(scene);
+  cli::add_whole(app, "--threads", o.threads, "OpenMP threads [-]", 1, 1024)->group(scene);
+  cli::add_text(app, "--out", o.out,
+                "output directory (default out/two_rod_intrusion, or . when the working directory already "
+                "is out/two_rod_intrusion)")
+      ->type_name("DIR")
+      ->group(scene);
+  cli::add_whole<std::uint64_t>(app, "--vtk-every", o.vtk_every,
+                                "write particle and rod VTK frames every N steps [-] (0: none)", 0)
+      ->group(scene);
+  app.add_flag("--quiet", o.quiet, "no progress on stderr")->group(scene);
+}
+
+// What the parser cannot check option by option; a bad value is a usage error (exit code 2).
+void check_options(Options& o) {
   for (double k : o.seeds)
-    if (!(k >= 1.0 && k == std::floor(k))) throw granule::InvalidParameter("--seeds expects whole numbers >= 1");
-  if (o.threads < 1) throw granule::InvalidParameter("--threads must be >= 1");
-  o.bed.validate();
-  o.rod.validate(o.bed);
+    if (k != std::floor(k)) throw cli::UsageError("--seeds expects whole numbers >= 1, got " + gap_text(k));
+  try {
+    o.bed.validate();
+    o.rod.validate(o.bed);
+  } catch (const granule::InvalidParameter& e) {
+    throw cli::UsageError(e.what());
+  }
   if (o.out.empty()) {
     const auto cwd = std::filesystem::current_path();
     const bool inside = cwd.filename() == "two_rod_intrusion" && cwd.parent_path().filename() == "out";
     o.out = inside ? "." : "out/two_rod_intrusion";
   }
-  return o;
 }
 
-std::string gap_tag(double g) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%g", g);
-  return buf;
-}
+std::string gap_tag(double g) { return gap_text(g); }
 
 void write_force(const std::filesystem::path& file, const tr::RunResult& r) {
   CsvWriter w(file, {{"time", "s"}, {"depth", "m"}, {"force_z", "N"}, {"force_z_rod_a", "N"},
@@ -484,121 +458,128 @@ int run_study(Options o) {
   return 0;
 }
 
+// One sweep of the gaps (no --study).
+int run_sweep(const Options& o) {
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&]() { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  const std::filesystem::path out = o.out;
+  std::filesystem::create_directories(out);
+  auto log = [&](const std::string& s) {
+    if (!o.quiet) std::cerr << "[two_rod " << static_cast<int>(elapsed()) << " s] " << s << "\n";
+  };
+  const double d = o.bed.diameter;
+  const std::string shape = tr::shape_name(o.rod.shape);
+  std::cout << "two_rod_intrusion (" << (o.paper ? "paper" : "quick") << " mode): d = " << d << " m, rods "
+            << shape << " " << o.rod.width << " x " << o.rod.length << " m, U0 = " << o.rod.speed
+            << " m/s, depth " << o.rod.depth << " m, box " << o.bed.length_x << " x " << o.bed.length_y
+            << " m filled to " << o.bed.fill_height << " m, dt = " << o.bed.dt << " s, mu = " << o.bed.friction
+            << ", output in " << std::filesystem::absolute(out).lexically_normal().string() << "\n";
+
+  // The bed (poured once, then read from the cache by every run).
+  const tr::LoadedBed bed = tr::load_or_prepare_bed(o.bed, out, log);
+  std::cout << "bed: " << bed.info.particles << " particles, surface " << bed.info.surface
+            << " m, packing fraction " << bed.info.packing_fraction << ", "
+            << (bed.info.built ? "poured now" : "read from ") << (bed.info.built ? "" : bed.info.checkpoint.string())
+            << " (simulated settling " << bed.info.settle_time << " s), critical dt "
+            << bed.sim->critical_time_step() << " s\n";
+  {
+    CsvWriter w(out / "scene.csv",
+                {{"particles", ""}, {"diameter", "m"}, {"surface", "m"}, {"packing_fraction", ""},
+                 {"settle_time", "s"}, {"length_x", "m"}, {"length_y", "m"}, {"fill_height", "m"}, {"dt", "s"},
+                 {"rayleigh_time", "s"}, {"rod_width", "m"}, {"rod_length", "m"}, {"speed", "m/s"},
+                 {"depth", "m"}, {"friction", ""}},
+                {false, false});
+    w.write_row({static_cast<double>(bed.info.particles), d, bed.info.surface, bed.info.packing_fraction,
+                 bed.info.settle_time, o.bed.length_x, o.bed.length_y, o.bed.fill_height, o.bed.dt,
+                 bed.sim->critical_time_step(), o.rod.width, o.rod.length, o.rod.speed, o.rod.depth,
+                 o.bed.friction});
+  }
+
+  auto run = [&](int rods, double g) {
+    tr::RunOptions ro;
+    ro.analyse_half_depth = o.analysis;
+    ro.progress = o.quiet ? granule::io::ProgressMode::Off : granule::io::ProgressMode::Auto;
+    const std::string tag = rods == 1 ? shape + "_single" : shape + "_s" + gap_tag(g);
+    ro.label = tag;
+    ro.vtk_every = o.vtk_every;
+    ro.vtk_dir = out / "vtk" / tag;
+    log("run " + tag);
+    tr::RunResult r = tr::run_intrusion(o.bed, o.rod, rods, g * d, out, ro, log);
+    write_force(out / ("force_" + tag + ".csv"), r);
+    if (o.analysis && r.half.done) {
+      const auto ys = tr::rod_centres_y(o.bed, o.rod, rods, g * d);
+      write_half(out, tag, r.half, 0.5 * (ys.front() + ys.back()), d);
+    }
+    return r;
+  };
+
+  double w_single = std::nan("");
+  if (o.single) {
+    const tr::RunResult r = run(1, 0.0);
+    w_single = r.work;
+    CsvWriter w(out / ("single_rod_" + shape + ".csv"),
+                {{"work", "J"}, {"body_work", "J"}, {"peak_force", "N"}, {"slope", "N/m"}, {"very_strong", ""},
+                 {"pair_contacts", ""}, {"mean_fn", "N"}, {"wall_time", "s"}},
+                {false, false});
+    w.write_row({r.work, r.body_work, r.peak_force, tr::force_slope(r.samples, 0.2 * o.rod.depth, o.rod.depth),
+                 static_cast<double>(r.half.very_strong), static_cast<double>(r.half.contacts), r.half.pdf.mean_fn,
+                 r.wall_seconds});
+    std::cout << "single rod: W = " << r.work << " J (body work " << r.body_work << " J), " << r.wall_seconds
+              << " s\n";
+  }
+
+  std::vector<double> works;
+  CsvWriter table(out / ("work_vs_gap_" + shape + ".csv"),
+                  {{"gap_over_d", ""}, {"gap", "m"}, {"work", "J"}, {"body_work", "J"}, {"work_over_peak", ""},
+                   {"work_over_two_single", ""}, {"very_strong", ""}, {"pair_contacts", ""}, {"mean_fn", "N"},
+                   {"peak_force", "N"}, {"slope", "N/m"}, {"wall_time", "s"}},
+                  {true, false});
+  std::vector<tr::RunResult> results;
+  std::printf("%8s %12s %12s %12s %10s\n", "s/d", "W [J]", "W_body [J]", "very_strong", "time [s]");
+  for (double g : o.gaps) {
+    results.push_back(run(2, g));
+    const auto& r = results.back();
+    works.push_back(r.work);
+    std::printf("%8g %12.5g %12.5g %12zu %10.1f\n", g, r.work, r.body_work, r.half.very_strong, r.wall_seconds);
+    std::fflush(stdout);
+  }
+  const double w_max = *std::max_element(works.begin(), works.end());
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    const auto& r = results[k];
+    table.write_row({o.gaps[k], o.gaps[k] * d, r.work, r.body_work, r.work / w_max, r.work / (2.0 * w_single),
+                     static_cast<double>(r.half.very_strong), static_cast<double>(r.half.contacts),
+                     r.half.pdf.mean_fn, r.peak_force, tr::force_slope(r.samples, 0.2 * o.rod.depth, o.rod.depth),
+                     r.wall_seconds});
+  }
+  const tr::PeakSummary peak = tr::find_peak(o.gaps, works);
+  {
+    CsvWriter w(out / ("peak_" + shape + ".csv"),
+                {{"gap_over_d_peak", ""}, {"work_peak", "J"}, {"work_largest_gap", "J"}, {"peak_over_largest_gap", ""},
+                 {"two_single_work", "J"}, {"peak_over_two_single", ""}},
+                {false, false});
+    w.write_row({peak.gap_over_d, peak.work, peak.plateau_work, peak.ratio, 2.0 * w_single, peak.work / (2.0 * w_single)});
+  }
+  std::cout << "peak: W* = " << peak.work << " J at s/d = " << peak.gap_over_d << ", " << 100.0 * (peak.ratio - 1.0)
+            << " % above W at the largest gap";
+  if (o.single) std::cout << ", W*/(2 W_single) = " << peak.work / (2.0 * w_single);
+  std::cout << "\ntotal wall time " << elapsed() << " s\n";
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    const Options o = parse(argc, argv);
+  Options o;
+  set_quick(o);
+  set_mode(argc, argv, o);
+  CLI::App app("", "two_rod_intrusion");
+  cli::configure(app);
+  add_options(app, o);
+  return cli::run(app, argc, argv, [&] {
+    check_options(o);
 #ifdef _OPENMP
     omp_set_num_threads(o.threads);
 #endif
-    if (!o.study.empty()) return run_study(o);
-    const auto start = std::chrono::steady_clock::now();
-    auto elapsed = [&]() { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-    const std::filesystem::path out = o.out;
-    std::filesystem::create_directories(out);
-    auto log = [&](const std::string& s) {
-      if (!o.quiet) std::cerr << "[two_rod " << static_cast<int>(elapsed()) << " s] " << s << "\n";
-    };
-    const double d = o.bed.diameter;
-    const std::string shape = tr::shape_name(o.rod.shape);
-    std::cout << "two_rod_intrusion (" << (o.paper ? "paper" : "quick") << " mode): d = " << d << " m, rods "
-              << shape << " " << o.rod.width << " x " << o.rod.length << " m, U0 = " << o.rod.speed
-              << " m/s, depth " << o.rod.depth << " m, box " << o.bed.length_x << " x " << o.bed.length_y
-              << " m filled to " << o.bed.fill_height << " m, dt = " << o.bed.dt << " s, mu = " << o.bed.friction
-              << ", output in " << std::filesystem::absolute(out).lexically_normal().string() << "\n";
-
-    // The bed (poured once, then read from the cache by every run).
-    const tr::LoadedBed bed = tr::load_or_prepare_bed(o.bed, out, log);
-    std::cout << "bed: " << bed.info.particles << " particles, surface " << bed.info.surface
-              << " m, packing fraction " << bed.info.packing_fraction << ", "
-              << (bed.info.built ? "poured now" : "read from ") << (bed.info.built ? "" : bed.info.checkpoint.string())
-              << " (simulated settling " << bed.info.settle_time << " s), critical dt "
-              << bed.sim->critical_time_step() << " s\n";
-    {
-      CsvWriter w(out / "scene.csv",
-                  {{"particles", ""}, {"diameter", "m"}, {"surface", "m"}, {"packing_fraction", ""},
-                   {"settle_time", "s"}, {"length_x", "m"}, {"length_y", "m"}, {"fill_height", "m"}, {"dt", "s"},
-                   {"rayleigh_time", "s"}, {"rod_width", "m"}, {"rod_length", "m"}, {"speed", "m/s"},
-                   {"depth", "m"}, {"friction", ""}},
-                  {false, false});
-      w.write_row({static_cast<double>(bed.info.particles), d, bed.info.surface, bed.info.packing_fraction,
-                   bed.info.settle_time, o.bed.length_x, o.bed.length_y, o.bed.fill_height, o.bed.dt,
-                   bed.sim->critical_time_step(), o.rod.width, o.rod.length, o.rod.speed, o.rod.depth,
-                   o.bed.friction});
-    }
-
-    auto run = [&](int rods, double g) {
-      tr::RunOptions ro;
-      ro.analyse_half_depth = o.analysis;
-      ro.progress = o.quiet ? granule::io::ProgressMode::Off : granule::io::ProgressMode::Auto;
-      const std::string tag = rods == 1 ? shape + "_single" : shape + "_s" + gap_tag(g);
-      ro.label = tag;
-      ro.vtk_every = o.vtk_every;
-      ro.vtk_dir = out / "vtk" / tag;
-      log("run " + tag);
-      tr::RunResult r = tr::run_intrusion(o.bed, o.rod, rods, g * d, out, ro, log);
-      write_force(out / ("force_" + tag + ".csv"), r);
-      if (o.analysis && r.half.done) {
-        const auto ys = tr::rod_centres_y(o.bed, o.rod, rods, g * d);
-        write_half(out, tag, r.half, 0.5 * (ys.front() + ys.back()), d);
-      }
-      return r;
-    };
-
-    double w_single = std::nan("");
-    if (o.single) {
-      const tr::RunResult r = run(1, 0.0);
-      w_single = r.work;
-      CsvWriter w(out / ("single_rod_" + shape + ".csv"),
-                  {{"work", "J"}, {"body_work", "J"}, {"peak_force", "N"}, {"slope", "N/m"}, {"very_strong", ""},
-                   {"pair_contacts", ""}, {"mean_fn", "N"}, {"wall_time", "s"}},
-                  {false, false});
-      w.write_row({r.work, r.body_work, r.peak_force, tr::force_slope(r.samples, 0.2 * o.rod.depth, o.rod.depth),
-                   static_cast<double>(r.half.very_strong), static_cast<double>(r.half.contacts), r.half.pdf.mean_fn,
-                   r.wall_seconds});
-      std::cout << "single rod: W = " << r.work << " J (body work " << r.body_work << " J), " << r.wall_seconds
-                << " s\n";
-    }
-
-    std::vector<double> works;
-    CsvWriter table(out / ("work_vs_gap_" + shape + ".csv"),
-                    {{"gap_over_d", ""}, {"gap", "m"}, {"work", "J"}, {"body_work", "J"}, {"work_over_peak", ""},
-                     {"work_over_two_single", ""}, {"very_strong", ""}, {"pair_contacts", ""}, {"mean_fn", "N"},
-                     {"peak_force", "N"}, {"slope", "N/m"}, {"wall_time", "s"}},
-                    {true, false});
-    std::vector<tr::RunResult> results;
-    std::printf("%8s %12s %12s %12s %10s\n", "s/d", "W [J]", "W_body [J]", "very_strong", "time [s]");
-    for (double g : o.gaps) {
-      results.push_back(run(2, g));
-      const auto& r = results.back();
-      works.push_back(r.work);
-      std::printf("%8g %12.5g %12.5g %12zu %10.1f\n", g, r.work, r.body_work, r.half.very_strong, r.wall_seconds);
-      std::fflush(stdout);
-    }
-    const double w_max = *std::max_element(works.begin(), works.end());
-    for (std::size_t k = 0; k < results.size(); ++k) {
-      const auto& r = results[k];
-      table.write_row({o.gaps[k], o.gaps[k] * d, r.work, r.body_work, r.work / w_max, r.work / (2.0 * w_single),
-                       static_cast<double>(r.half.very_strong), static_cast<double>(r.half.contacts),
-                       r.half.pdf.mean_fn, r.peak_force, tr::force_slope(r.samples, 0.2 * o.rod.depth, o.rod.depth),
-                       r.wall_seconds});
-    }
-    const tr::PeakSummary peak = tr::find_peak(o.gaps, works);
-    {
-      CsvWriter w(out / ("peak_" + shape + ".csv"),
-                  {{"gap_over_d_peak", ""}, {"work_peak", "J"}, {"work_largest_gap", "J"}, {"peak_over_largest_gap", ""},
-                   {"two_single_work", "J"}, {"peak_over_two_single", ""}},
-                  {false, false});
-      w.write_row({peak.gap_over_d, peak.work, peak.plateau_work, peak.ratio, 2.0 * w_single, peak.work / (2.0 * w_single)});
-    }
-    std::cout << "peak: W* = " << peak.work << " J at s/d = " << peak.gap_over_d << ", " << 100.0 * (peak.ratio - 1.0)
-              << " % above W at the largest gap";
-    if (o.single) std::cout << ", W*/(2 W_single) = " << peak.work / (2.0 * w_single);
-    std::cout << "\ntotal wall time " << elapsed() << " s\n";
-    return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "two_rod_intrusion: " << e.what() << "\n";
-    return 1;
-  }
+    return o.study.empty() ? run_sweep(o) : run_study(o);
+  });
 }

@@ -1,10 +1,15 @@
-// Downstream use of an installed granule: headers, Eigen and the error helpers.
+// Downstream use of an installed granule: headers, Eigen and the error helpers, built optimised.
 #include <granule/core/dimension.hpp>
 #include <granule/core/error.hpp>
 
 #include <iostream>
 
 int main() {
+#ifndef __OPTIMIZE__
+  // The README's recipe (and this test) configure with -DCMAKE_BUILD_TYPE=Release.
+  std::cout << "built without optimisation\n";
+  return 3;
+#endif
   const granule::Dim<3>::Vec x(1.0, 2.0, 3.0);
   if (x.sum() != 6.0) return 1;
   try {

@@ -1,7 +1,11 @@
 # Run by ctest (test install_and_consume) as `cmake -D... -P run_install_test.cmake`:
 #  1. cmake --install the granule build tree GRANULE_BUILD_DIR into the empty prefix PREFIX;
 #  2. configure CONSUMER_SOURCE_DIR (a downstream project that calls find_package(granule))
-#     in CONSUMER_BUILD_DIR with CMAKE_PREFIX_PATH=PREFIX, build it and run its programs.
+#     in CONSUMER_BUILD_DIR with CMAKE_PREFIX_PATH=PREFIX, as the README's recipe does (Release),
+#     build it and run its programs;
+#  3. if GRANULE_SOURCE_DIR is set: configure CONSUMER_SOURCE_DIR/subdirectory (a project that
+#     add_subdirectory()s granule) in CONSUMER_BUILD_DIR-subdirectory, build and install it into
+#     PREFIX-subdirectory, and check that its program is there and granule's headers are not.
 # Any failing step stops the script with a non-zero exit code.
 foreach(var GRANULE_BUILD_DIR PREFIX CONSUMER_SOURCE_DIR CONSUMER_BUILD_DIR CXX_COMPILER GENERATOR)
   if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
@@ -17,7 +21,9 @@ function(run_step what)
   endif()
 endfunction()
 
-file(REMOVE_RECURSE "${PREFIX}" "${CONSUMER_BUILD_DIR}")
+set(sub_build "${CONSUMER_BUILD_DIR}-subdirectory")
+set(sub_prefix "${PREFIX}-subdirectory")
+file(REMOVE_RECURSE "${PREFIX}" "${CONSUMER_BUILD_DIR}" "${sub_build}" "${sub_prefix}")
 
 set(config_args)
 if(DEFINED GRANULE_CONFIG AND NOT GRANULE_CONFIG STREQUAL "")
@@ -40,8 +46,25 @@ run_step("configure the downstream project"
 run_step("build the downstream project"
   "${CMAKE_COMMAND}" --build "${CONSUMER_BUILD_DIR}" --config Release)
 
-foreach(program consumer consumer_fftw)
+foreach(program consumer consumer_fftw consumer_native)
   find_program(exe_${program} ${program} PATHS "${CONSUMER_BUILD_DIR}" "${CONSUMER_BUILD_DIR}/Release"
                NO_DEFAULT_PATH REQUIRED)
   run_step("run ${program}" "${exe_${program}}")
 endforeach()
+
+if(DEFINED GRANULE_SOURCE_DIR AND NOT GRANULE_SOURCE_DIR STREQUAL "")
+  run_step("configure a project that adds granule with add_subdirectory"
+    "${CMAKE_COMMAND}" -S "${CONSUMER_SOURCE_DIR}/subdirectory" -B "${sub_build}" -G "${GENERATOR}"
+    "-DGRANULE_SOURCE_DIR=${GRANULE_SOURCE_DIR}" "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}"
+    -DCMAKE_BUILD_TYPE=Release)
+  run_step("build it" "${CMAKE_COMMAND}" --build "${sub_build}" --config Release)
+  run_step("install it into ${sub_prefix}"
+    "${CMAKE_COMMAND}" --install "${sub_build}" --prefix "${sub_prefix}" --config Release)
+  file(GLOB_RECURSE installed RELATIVE "${sub_prefix}" "${sub_prefix}/*")
+  if(NOT installed MATCHES "consumer")
+    message(FATAL_ERROR "install test: the parent's program was not installed: ${installed}")
+  endif()
+  if(installed MATCHES "granule")
+    message(FATAL_ERROR "install test: add_subdirectory(granule) installed granule's files: ${installed}")
+  endif()
+endif()
