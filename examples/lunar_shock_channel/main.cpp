@@ -585,6 +585,7 @@ int run_pour_check(const std::filesystem::path& results, const std::filesystem::
 /// --study TAG [--list]: runs (or lists) the cases of a tag, skipping those with a result file.
 int run_study(const std::string& tag, const std::filesystem::path& results, const std::filesystem::path& out,
               double length_override, bool list_only, int threads) {
+  study_cases(tag, kShortLength);  // an unknown tag fails here, before anything else is said
   std::vector<StudyResult> checks;
   for (const StudyCase& c : study_cases("length", kShortLength))
     if (auto r = read_result(results / "length" / (c.stem() + ".csv"))) checks.push_back(*r);
@@ -673,6 +674,7 @@ int run_study(const std::string& tag, const std::filesystem::path& results, cons
     s.load = load;
     s.prov = examples::provenance_now();
     // Side files first, the case file last: its presence marks the case done.
+    std::filesystem::create_directories(results / tag);
     {
       io::CsvWriter d(results / tag / (c.stem() + "_depths.csv"),
                       {{"depth", "m"}, {"c_w", "m/s"}, {"c_w_uncertainty", "m/s"}, {"c_p", "m/s"}, {"c_p_uncertainty", "m/s"}});

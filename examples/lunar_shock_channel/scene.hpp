@@ -425,7 +425,10 @@ inline void pour_bed(const ChannelOptions& o, double dt, ChannelSim& bed, BedRep
   const double rate = o.flux() * o.length * o.width;  // [particles/s]
   scene::Pour<ChannelSim> pour(*pour_sim, region, scene::MonodisperseSizes(r), scene::StreamSchedule(rate, total), 0,
                                Vec(0, 0, -o.pour_speed), 0, o.seed);
-  io::ProgressReporter progress({.end_time = 0.0, .mode = o.progress ? io::ProgressMode::On : io::ProgressMode::Off,
+  // ETA from the expected pour time: the insertion, the fall from the top of the region, 0.2 s.
+  const double expected = static_cast<double>(total) / rate +
+                          std::sqrt(2.0 * (o.depth + o.drop_height + o.region_height) / o.gravity) + 0.2;
+  io::ProgressReporter progress({.end_time = expected, .mode = o.progress ? io::ProgressMode::On : io::ProgressMode::Off,
                                  .interval = 5.0, .label = "pour"});
   const auto every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(1e-3 / dt)));
   // Pour, then let the last particles land: stop when the mean kinetic energy per particle
