@@ -466,7 +466,7 @@ std::vector<EstimateRow> estimate_all(const std::filesystem::path& results, cons
                                       double length, int threads, bool write) {
   const std::filesystem::path cost_dir = results / "cost";
   std::vector<EstimateRow> rows;
-  std::set<std::string> poured, settled;
+  std::set<std::string> poured, settled, run;
   for (const auto& tag : tags) {
     EstimateRow total{"study", tag, "all", length, {}};
     for (const StudyCase& c : study_cases(tag, length)) {
@@ -475,6 +475,7 @@ std::vector<EstimateRow> estimate_all(const std::filesystem::path& results, cons
       const PhaseCost pc = phase_cost(cost_dir, c.length);
       EstimateRow r{"case", tag, c.stem(), c.length, estimate_case(o, pc, pn, sn),
                     estimate_case(o, pc.idle(threads), pn, sn)};
+      if (!run.insert(c.stem()).second) r.e = r.idle = {};  // run by an earlier tag, copied (find_result)
       rows.push_back(r);
       for (auto [sum, one] : {std::pair{&total.e, &r.e}, std::pair{&total.idle, &r.idle}}) {
         sum->particles = std::max(sum->particles, one->particles);
