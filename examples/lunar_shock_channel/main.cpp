@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <stdexcept>
 #include <sstream>
 #include <string>
@@ -19,10 +21,12 @@
 #endif
 
 #include <granule/io/csv.hpp>
+#include <granule/io/progress.hpp>
 
 #include "../common/provenance.hpp"
 
 #include "scene.hpp"
+#include "study.hpp"
 
 using namespace granule;
 using namespace granule::examples::lunar_shock;
@@ -31,7 +35,7 @@ namespace {
 
 void usage() {
   std::printf(
-      "usage: lunar_shock_channel validation|channel [options]\n"
+      "usage: lunar_shock_channel [validation|channel] [options]     (no sub-command: channel)\n"
       "\n"
       "common:\n"
       "  --out DIR              output directory (out/lunar_shock_channel)\n"
@@ -86,6 +90,21 @@ void usage() {
       "  --cw-window A,B        fit window for c_w along y [m] (0,0.08; paper 0,0.15)\n"
       "  --cp-window A,B        fit window for c_p along y [m] (0.12,0.2; paper 0.3,0.5)\n"
       "  --bed-dir DIR          cache of settled beds (OUT/beds)\n"
+      "  --rolling-damping G    rolling viscous damping ratio eta_r of settling and shocks [-] (2: 001 table 2;\n"
+      "                         0: 001 section 2.1, 'neglected'); the pour uses 0 either way\n"
+      "  --dt-pour DT           pour time step [s] (0: the pour/settle step)\n"
+      "  --bed-only             prepare (or load) the bed, print it, run no shock\n"
+      "\n"
+      "paper-scale study (001's grains, 2 cm x 20 cm cross-section, shock dt 1e-6 s; study.hpp):\n"
+      "  --study TAG            length | loose | medium | rolling | bender: runs the tag's cases, one result\n"
+      "                         file each in RESULTS/TAG/, skipping those done (same case in another tag: copied)\n"
+      "  --list                 with --study: the cases, done or not, and their estimated wall time\n"
+      "  --study-length L       channel length of the study [m] (default: 0.5 if the length check passed, 1 if not)\n"
+      "  --results DIR          root of the study's result directories (OUT/results)\n"
+      "  --measure-cost         time short segments (settle, shock) of lattice beds of 0.5 m and 1 m, write\n"
+      "                         RESULTS/cost/cost_measured.csv and cost_estimate.csv\n"
+      "  --cost-steps N         steps per cost segment (2000)\n"
+      "  --pour-check           pour a 5 cm x 3 cm bed at dt 1e-5 s and 1e-6 s: RESULTS/cost/pour_check.csv\n"
       "  --quiet                no progress lines on stderr\n");
 }
 
@@ -281,6 +300,19 @@ int run_validation(const ValidationOptions& vo, const std::filesystem::path& res
   return 0;
 }
 
+/// c_w ~ v_p^n over the shocks (v_p >= 1 m/s, 001 fig. 9: 1/5), or why there is none.
+void report_exponent(const std::vector<double>& vp, const std::vector<double>& cw) {
+  std::set<double> distinct(vp.begin(), vp.end());
+  if (distinct.size() < 2) {
+    std::printf("shock exponent: needs c_w at two or more piston speeds >= 1 m/s, have %zu (001: 1/5)\n",
+                distinct.size());
+    return;
+  }
+  const PowerLaw pl = fit_power_law(vp, cw);
+  std::printf("shock exponent (%zu speeds >= 1 m/s): c_w ~ v_p^%.3f +- %.3f (001: 1/5; table 8 loose 0.18-0.19)\n",
+              vp.size(), pl.exponent, pl.exponent_uncertainty);
+}
+
 int run_channel(ChannelOptions o, const std::vector<double>& vps, const std::filesystem::path& out) {
   std::filesystem::create_directories(out);
   const auto bed = prepare_bed(o);
@@ -298,7 +330,8 @@ int run_channel(ChannelOptions o, const std::vector<double>& vps, const std::fil
   std::printf("  quietness: net force / weight mean %.3g, median %.3g, p99 %.3g; KE/particle %.3g J; max |v| %.3g m/s,"
               " max |omega| %.3g rad/s\n",
               q.force_mean, q.force_median, q.force_p99, q.ke_per_particle, q.max_speed, q.max_spin);
-  std::printf("  bed depth %.1f particle diameters; checkpoint %s\n", o.depth / (2 * o.radius), bed_path(o).string().c_str());
+  std::printf("  bed depth %.1f particle diameters; interior packing fraction %.4f, coordination %.3f; checkpoint %s\n",
+              o.depth / (2 * o.radius), bed.packing_interior, bed.coordination, bed_path(o).string().c_str());
   if (!bed.settle_history.empty()) {
     io::CsvWriter sc(out / ("bed_settle_" + std::string(packing_name(o.packing)) + ".csv"),
                      {{"time", "s"}, {"force_mean", "m g"}, {"force_median", "m g"}, {"force_p99", "m g"},
@@ -306,6 +339,7 @@ int run_channel(ChannelOptions o, const std::vector<double>& vps, const std::fil
     for (const auto& h : bed.settle_history)
       sc.write_row({h.time, h.force_mean, h.force_median, h.force_p99, h.ke_per_particle, h.max_speed, h.max_spin});
   }
+  if (vps.empty()) return 0;
   const std::string tag = o.bender ? "s" : "p";
   io::CsvWriter summary(out / ("channel_summary_" + tag + ".csv"),
                         {{"v_p", "m/s"}, {"c_w", "m/s"}, {"c_w_sd", "m/s"}, {"c_p", "m/s"}, {"c_p_sd", "m/s"},
@@ -323,8 +357,13 @@ int run_channel(ChannelOptions o, const std::vector<double>& vps, const std::fil
   // c_0 = mean c_w of the acoustic waves, v_p <= 0.1 m/s (001 section 2.9, table 6).
   double c0 = NAN, c0_sum = 0.0;
   int c0_n = 0;
+  std::vector<double> shock_vp, shock_cw;
   for (double v : sorted) {
     const ShockResult r = run_shock(o, v);
+    if (v >= 1.0 - 1e-12 && std::isfinite(r.c_w_mean)) {
+      shock_vp.push_back(v);
+      shock_cw.push_back(r.c_w_mean);
+    }
     if (v <= 0.1 + 1e-12 && std::isfinite(r.c_w_mean)) {
       c0_sum += r.c_w_mean;
       c0 = c0_sum / ++c0_n;
@@ -347,8 +386,13 @@ int run_channel(ChannelOptions o, const std::vector<double>& vps, const std::fil
   const Material mat = channel_material(false);
   const double mass = mat.density * o.particle_volume();
   const double d0_paper = paper_mean_overlap(o.packing), c0_paper = paper_sound_speed(o.packing);
-  std::printf("sound speed c_0 (mean c_w over v_p <= 0.1 m/s, %d run(s)) = %.3f m/s; paper table 6 (%s): %.2f m/s\n",
-              c0_n, c0, packing_name(o.packing), c0_paper);
+  if (c0_n > 0)
+    std::printf("sound speed c_0 (mean c_w over v_p <= 0.1 m/s, %d run(s)) = %.3f m/s; paper table 6 (%s): %.2f m/s\n",
+                c0_n, c0, packing_name(o.packing), c0_paper);
+  else
+    std::printf("sound speed c_0: no acoustic run with a front (v_p <= 0.1 m/s, --vp); paper table 6 (%s): %.2f m/s\n",
+                packing_name(o.packing), c0_paper);
+  report_exponent(shock_vp, shock_cw);
   std::printf("  c ~ delta_0^(1/4): paper c_0 x (%.3g / %.3g um)^(1/4) = %.3f m/s; eq. 7 x sqrt(3)/2 with this bed's"
               " delta_0: %.3f m/s (with the paper's delta_0: %.3f m/s)\n",
               bed.mean_overlap * 1e6, d0_paper * 1e6, c0_paper * std::pow(bed.mean_overlap / d0_paper, 0.25),
@@ -358,18 +402,341 @@ int run_channel(ChannelOptions o, const std::vector<double>& vps, const std::fil
   return 0;
 }
 
+// ---------------------------------------------------------------------------------------------
+// The paper-scale study (study.hpp), its cost and the pour check
+// ---------------------------------------------------------------------------------------------
+
+/// Rows of a CSV with an optional '#' provenance line, keyed by column name without its unit.
+std::vector<std::map<std::string, std::string>> read_table(const std::filesystem::path& file) {
+  std::vector<std::map<std::string, std::string>> rows;
+  std::ifstream in(file);
+  std::string line;
+  std::vector<std::string> names;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const auto f = examples::csv_split(line);
+    if (names.empty()) {
+      for (const auto& h : f) names.push_back(h.substr(0, h.find(" [")));
+      continue;
+    }
+    std::map<std::string, std::string> r;
+    for (std::size_t k = 0; k < names.size() && k < f.size(); ++k) r[names[k]] = f[k];
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+std::string provenance_line(const char* what) {
+  const examples::Provenance p = examples::provenance_now();
+  char load[32];
+  std::snprintf(load, sizeof load, "%.2f", load_average());
+  return std::string("# lunar_shock_channel ") + what + ": commit " + p.commit + "; date " + p.date + "; machine " +
+         p.machine + "; load average " + load + "\n";
+}
+
+/// Measured cost per particle-step for a channel of length L: the segment of the nearest length
+/// (settle, shock; the pour as settle); NaN where nothing was measured.
+PhaseCost phase_cost(const std::filesystem::path& cost_dir, double length) {
+  PhaseCost c;
+  double best_settle = 1e300, best_shock = 1e300;
+  for (const auto& r : read_table(cost_dir / "cost_measured.csv")) {
+    const double L = std::stod(r.at("length")), ns = std::stod(r.at("ns_per_particle_step"));
+    const double cpu = std::stod(r.at("cpu_ns_per_particle_step"));
+    const double d = std::abs(std::log(L / length));
+    if (r.at("phase") == "settle" && d < best_settle) best_settle = d, c.settle = ns, c.settle_cpu = cpu;
+    if (r.at("phase") == "shock" && d < best_shock) best_shock = d, c.shock = ns, c.shock_cpu = cpu;
+  }
+  // The pour at the settle segment's cost (a bed at the same step, 2 threads): the pour check's
+  // own figure comes from a 2 500-grain bed on one thread, dominated by per-step overheads.
+  c.pour = c.settle;
+  c.pour_cpu = c.settle_cpu;
+  return c;
+}
+
+struct EstimateRow {
+  std::string kind, tag, name;
+  double length = 0;
+  CaseEstimate e;       ///< at the wall time per particle-step measured (under the load of then)
+  CaseEstimate idle{};  ///< at the CPU time per particle-step over the threads (an idle machine)
+};
+
+/// Estimates of every case of `tags` (beds shared across tags counted once, in tag order) and of
+/// the full 2 m paper run, for `threads` threads; also written to cost_dir/cost_estimate.csv.
+std::vector<EstimateRow> estimate_all(const std::filesystem::path& results, const std::vector<std::string>& tags,
+                                      double length, int threads, bool write) {
+  const std::filesystem::path cost_dir = results / "cost";
+  std::vector<EstimateRow> rows;
+  std::set<std::string> poured, settled, run;
+  for (const auto& tag : tags) {
+    EstimateRow total{"study", tag, "all", length, {}};
+    for (const StudyCase& c : study_cases(tag, length)) {
+      const ChannelOptions o = study_options(c);
+      const bool pn = poured.insert(pour_key(c)).second, sn = settled.insert(settle_key(c)).second;
+      const PhaseCost pc = phase_cost(cost_dir, c.length);
+      EstimateRow r{"case", tag, c.stem(), c.length, estimate_case(o, pc, pn, sn),
+                    estimate_case(o, pc.idle(threads), pn, sn)};
+      if (!run.insert(c.stem()).second) r.e = r.idle = {};  // run by an earlier tag, copied (find_result)
+      rows.push_back(r);
+      for (auto [sum, one] : {std::pair{&total.e, &r.e}, std::pair{&total.idle, &r.idle}}) {
+        sum->particles = std::max(sum->particles, one->particles);
+        sum->pour += one->pour;
+        sum->settle += one->settle;
+        sum->shock += one->shock;
+      }
+    }
+    rows.push_back(total);
+  }
+  // The full paper run: 2 m, 1.5 s of shock at 1e-6 s. Ours: pour and settle at 1e-5 s; 001's:
+  // everything at 1e-6 s (cost per particle-step taken as at 1e-5 s).
+  for (int proto = 0; proto < 2; ++proto) {
+    StudyCase c{"paper", Packing::Loose, 2.0, 10.0};
+    ChannelOptions o = study_options(c, proto == 0 ? 1e-5 : 1e-6);
+    o.tail_from = 0.0;
+    o.run_time = 1.5;
+    const PhaseCost pc = phase_cost(cost_dir, 2.0);
+    rows.push_back({"paper", proto == 0 ? "2 m, pour and settle at 1e-5 s" : "2 m, all at 1e-6 s (001)", "loose_L2_vp10",
+                    2.0, estimate_case(o, pc, true, true), estimate_case(o, pc.idle(threads), true, true)});
+  }
+  if (write) {
+    std::ostringstream t;
+    t << provenance_line("cost estimate")
+      << "kind,tag,case,length [m],particles,pour [s],settle [s],shock [s],total [s],threads,cpu_hours,"
+         "total_idle [s],cpu_hours_idle,settle_time_assumed [s]\n";
+    for (const auto& r : rows) {
+      char b[400];
+      std::snprintf(b, sizeof b, "%s,%s,%s,%g,%.0f,%.4g,%.4g,%.4g,%.4g,%d,%.4g,%.4g,%.4g,%g\n", r.kind.c_str(),
+                    examples::csv_quoted(r.tag).c_str(), r.name.c_str(), r.length, r.e.particles, r.e.pour, r.e.settle,
+                    r.e.shock, r.e.total(), threads, r.e.total() * threads / 3600.0, r.idle.total(),
+                    r.idle.total() * threads / 3600.0, kSettleTimeAssumed);
+      t << b;
+    }
+    study_detail::write_atomically(cost_dir / "cost_estimate.csv", t.str());
+  }
+  return rows;
+}
+
+std::string hms(double s) { return io::ProgressReporter::format_duration(s); }
+
+/// --measure-cost: settle and shock segments on lattice beds of both check lengths.
+int run_measure_cost(const std::filesystem::path& results, const std::filesystem::path& out, std::uint64_t steps,
+                     int threads) {
+  std::vector<CostSegment> segs;
+  for (double L : {kShortLength, kLongLength}) {
+    StudyCase c{"cost", Packing::Loose, L, 10.0};
+    const ChannelOptions o = study_options(c);
+    std::fprintf(stderr, "cost: settle segment, L = %g m, %llu steps ...\n", L, static_cast<unsigned long long>(steps));
+    segs.push_back(measure_settle(o, steps));
+    std::fprintf(stderr, "  %.0f particles, %.1f s wall, %.1f ns/particle-step wall, %.1f CPU (load %.2f -> %.2f)\n",
+                 segs.back().particles, segs.back().wall, segs.back().ns_per_particle_step,
+                 segs.back().cpu_ns_per_particle_step, segs.back().load_before, segs.back().load_after);
+    std::fprintf(stderr, "cost: shock segment (v_p = 10 m/s, sensors on), L = %g m, %llu steps ...\n", L,
+                 static_cast<unsigned long long>(steps));
+    segs.push_back(measure_shock(o, 10.0, steps, out / "cost_lattice.ckpt"));
+    std::fprintf(stderr, "  %.0f particles, %.1f s wall, %.1f ns/particle-step wall, %.1f CPU (load %.2f -> %.2f)\n",
+                 segs.back().particles, segs.back().wall, segs.back().ns_per_particle_step,
+                 segs.back().cpu_ns_per_particle_step, segs.back().load_before, segs.back().load_after);
+  }
+  std::ostringstream t;
+  t << provenance_line("cost segments (lattice beds)")
+    << "phase,length [m],particles,steps,dt [s],wall [s],ns_per_particle_step,cpu_ns_per_particle_step,load_before,"
+       "load_after,threads\n";
+  for (const auto& c : segs) {
+    char b[300];
+    std::snprintf(b, sizeof b, "%s,%g,%.0f,%.0f,%g,%.4g,%.4g,%.4g,%.2f,%.2f,%d\n", c.phase.c_str(), c.length, c.particles,
+                  c.steps, c.dt, c.wall, c.ns_per_particle_step, c.cpu_ns_per_particle_step, c.load_before, c.load_after,
+                  threads);
+    t << b;
+  }
+  study_detail::write_atomically(results / "cost" / "cost_measured.csv", t.str());
+  std::printf("cost segments in %s\n", (results / "cost" / "cost_measured.csv").string().c_str());
+  return 0;
+}
+
+/// --pour-check: the small bed poured at 1e-5 s and at 1e-6 s (both settled at 1e-5 s).
+int run_pour_check(const std::filesystem::path& results, const std::filesystem::path& out, int threads) {
+  std::ostringstream t;
+  t << provenance_line("pour check")
+    << "packing,seed,dt_pour [s],poured,particles,packing_fraction,packing_interior,coordination,delta_0 [m],"
+       "pour_time [s],pour_wall [s],pour_ns_per_particle_step,settle_time [s],settled,threads\n";
+  // Three seeds per step: the difference between the steps is compared with the scatter of
+  // pours at one step.
+  for (std::uint64_t seed : {1, 2, 3})
+  for (double dt : {1e-5, 1e-6}) {
+    ChannelOptions o = pour_check_options(Packing::Loose, dt);
+    o.seed = seed;
+    o.bed_dir = out / "beds";
+    std::fprintf(stderr, "pour check: seed %llu, dt_pour = %g s\n", static_cast<unsigned long long>(seed), dt);
+    const BedReport b = prepare_bed(o);
+    const double ns = b.pour_particle_steps > 0 ? 1e9 * b.pour_wall_seconds / b.pour_particle_steps : NAN;
+    std::printf("pour at dt = %g s: %zu particles, packing %.4f (interior %.4f), coordination %.3f, delta_0 %.4g m; "
+                "pour %.3f s simulated, %.0f s wall, %.1f ns/particle-step%s\n",
+                dt, b.particles, b.packing_fraction, b.packing_interior, b.coordination, b.mean_overlap, b.pour_time,
+                b.pour_wall_seconds, ns, b.from_cache ? " (cached bed: no timing)" : "");
+    char row[400];
+    std::snprintf(row, sizeof row, "loose,%llu,%g,%zu,%zu,%.5f,%.5f,%.4f,%.5g,%.4f,%.4g,%.4g,%.4f,%d,%d\n",
+                  static_cast<unsigned long long>(seed), dt, b.poured,
+                  b.particles, b.packing_fraction, b.packing_interior, b.coordination, b.mean_overlap, b.pour_time,
+                  b.pour_wall_seconds, ns, b.settle_time, b.settled ? 1 : 0, threads);
+    t << row;
+  }
+  study_detail::write_atomically(results / "cost" / "pour_check.csv", t.str());
+  return 0;
+}
+
+/// --study TAG [--list]: runs (or lists) the cases of a tag, skipping those with a result file.
+int run_study(const std::string& tag, const std::filesystem::path& results, const std::filesystem::path& out,
+              double length_override, bool list_only, int threads) {
+  study_cases(tag, kShortLength);  // an unknown tag fails here, before anything else is said
+  std::vector<StudyResult> checks;
+  for (const StudyCase& c : study_cases("length", kShortLength))
+    if (auto r = read_result(results / "length" / (c.stem() + ".csv"))) checks.push_back(*r);
+  const LengthVerdict v = length_verdict(checks);
+  double length = length_override > 0.0 ? length_override : v.length;
+  std::printf("length check: %s\n", v.state == LengthVerdict::State::Pass   ? "passed, the 0.5 m channel is used"
+                                    : v.state == LengthVerdict::State::Fail ? "failed, the 1 m channel is used"
+                                                                            : "not complete");
+  for (const auto& l : v.lines) std::printf("  %s\n", l.c_str());
+  if (tag != "length" && v.state == LengthVerdict::State::NotRun && length_override <= 0.0 && !list_only)
+    throw InvalidParameter("--study " + tag + ": the length check is not complete; run --study length first, or give "
+                           "--study-length L [m]");
+  const auto cases = study_cases(tag, length);
+  const auto est = estimate_all(results, study_tags(), length, threads, list_only);
+  std::map<std::string, CaseEstimate> by_name;
+  for (const auto& r : est)
+    if (r.kind == "case" && r.tag == tag) by_name[r.name] = r.e;
+  std::printf("study '%s': %zu cases, channel %g m (case files in %s)\n", tag.c_str(), cases.size(), length,
+              (results / tag).string().c_str());
+  double todo_s = 0.0;
+  std::vector<bool> done(cases.size(), false);
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const auto& c = cases[k];
+    const CaseEstimate& e = by_name[c.stem()];
+    const bool have = static_cast<bool>(list_only ? read_result(results / c.tag / (c.stem() + ".csv"))
+                                                  : find_result(results, c));
+    done[k] = have;
+    if (!have) todo_s += e.total();
+    std::printf("  %-28s %s  estimate %s (pour %s, settle %s, shock %s)\n", c.stem().c_str(), have ? "done" : "todo",
+                hms(e.total()).c_str(), hms(e.pour).c_str(), hms(e.settle).c_str(), hms(e.shock).c_str());
+  }
+  double todo_idle = 0.0;
+  for (const auto& r : est)
+    if (r.kind == "case" && r.tag == tag && !done[static_cast<std::size_t>(
+                                               std::find_if(cases.begin(), cases.end(),
+                                                            [&](const StudyCase& c) { return c.stem() == r.name; }) -
+                                               cases.begin())])
+      todo_idle += r.idle.total();
+  std::printf("  to do: %s wall on %d thread(s) at the wall time per particle-step measured (under the load of "
+              "then), %s on an idle machine (CPU time / threads); settling assumed %g s simulated\n",
+              hms(todo_s).c_str(), threads, hms(todo_idle).c_str(), kSettleTimeAssumed);
+  for (const auto& r : est)
+    if (r.kind != "case")
+      std::printf("  %-6s %-34s %s wall (idle: %s), %.3g CPU-hours (idle: %.3g)\n", r.kind.c_str(), r.tag.c_str(),
+                  hms(r.e.total()).c_str(), hms(r.idle.total()).c_str(), r.e.total() * threads / 3600.0,
+                  r.idle.total() * threads / 3600.0);
+  if (list_only) return 0;
+  const auto t_start = std::chrono::steady_clock::now();
+  double est_done = 0.0;
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    if (done[k]) continue;
+    const StudyCase& c = cases[k];
+    ChannelOptions o = study_options(c);
+    o.bed_dir = out / "beds";
+    const double load = load_average();
+    std::fprintf(stderr, "[lunar study %s] case %zu/%zu: %s (estimate %s)\n", tag.c_str(), k + 1, cases.size(),
+                 c.stem().c_str(), hms(by_name[c.stem()].total()).c_str());
+    const BedReport b = prepare_bed(o);
+    std::fprintf(stderr, "[lunar study %s] bed: %zu particles, packing %.4f (interior %.4f), coordination %.2f, "
+                 "delta_0 %.3g m, settled %s (%.2f s simulated)%s\n", tag.c_str(), b.particles, b.packing_fraction,
+                 b.packing_interior, b.coordination, b.mean_overlap, b.settled ? "to the criterion" : "NOT to the criterion",
+                 b.settle_time, b.from_cache ? ", cached" : "");
+    const ShockResult r = run_shock(o, c.v_p);
+    StudyResult s;
+    s.c = c;
+    s.particles = static_cast<double>(b.particles);
+    s.packing_fraction = b.packing_fraction;
+    s.packing_interior = b.packing_interior;
+    s.coordination = b.coordination;
+    s.delta_0 = r.delta_0;
+    s.c_w = r.c_w_mean;
+    s.c_w_sd = r.c_w_sd;
+    s.c_p = r.c_p_mean;
+    s.c_p_sd = r.c_p_sd;
+    s.delta_ratio = r.delta_ratio_mean;
+    s.dz = r.dz_mean;
+    s.dz_sd = r.dz_sd;
+    s.max_particle_speed = r.max_particle_speed;
+    s.ejected = static_cast<double>(r.ejected);
+    s.dt = r.dt;
+    s.dt_tail = r.dt_tail;
+    s.run_time = o.run_time;
+    s.steps = static_cast<double>(r.steps);
+    s.wall_time = r.wall_seconds;
+    s.ns_per_particle_step = 1e9 * r.wall_seconds / (s.steps * std::max(1.0, s.particles));
+    s.load = load;
+    s.prov = examples::provenance_now();
+    // Side files first, the case file last: its presence marks the case done.
+    std::filesystem::create_directories(results / tag);
+    {
+      io::CsvWriter d(results / tag / (c.stem() + "_depths.csv"),
+                      {{"depth", "m"}, {"c_w", "m/s"}, {"c_w_uncertainty", "m/s"}, {"c_p", "m/s"}, {"c_p_uncertainty", "m/s"}});
+      for (std::size_t k2 = 0; k2 < r.depth.size(); ++k2) d.write_row({r.depth[k2], r.c_w[k2], r.c_w_u[k2], r.c_p[k2], r.c_p_u[k2]});
+      io::CsvWriter cl(results / tag / (c.stem() + "_columns.csv"), {{"y", "m"}, {"dz", "m"}, {"delta_m_over_delta_0", ""}});
+      for (std::size_t j = 0; j < r.y.size(); ++j) cl.write_row({r.y[j], r.dz[j], r.delta_ratio[j]});
+    }
+    write_result(results / tag / (c.stem() + ".csv"), s);
+    est_done += by_name[c.stem()].total();
+    const double elapsed = granule::examples::lunar_shock::detail::elapsed_since(t_start);
+    const double left = todo_s - est_done;
+    // Scale the remaining estimate by how the cases so far compared with theirs.
+    const double eta = est_done > 0.0 ? left * elapsed / est_done : left;
+    std::fprintf(stderr, "[lunar study %s] %s: c_w %.3f +- %.3f, c_p %.3f +- %.3f m/s, delta_m/delta_0 %.3f, dz %.3g mm "
+                 "(%.0f s) | ETA %s\n", tag.c_str(), c.stem().c_str(), s.c_w, s.c_w_sd, s.c_p, s.c_p_sd, s.delta_ratio,
+                 s.dz * 1e3, s.wall_time, hms(eta).c_str());
+    std::printf("%-28s c_w = %.3f +- %.3f m/s, c_p = %.3f +- %.3f m/s, delta_m/delta_0 = %.3f, dz = %.3g mm, %.0f s\n",
+                c.stem().c_str(), s.c_w, s.c_w_sd, s.c_p, s.c_p_sd, s.delta_ratio, s.dz * 1e3, s.wall_time);
+    std::fflush(stdout);
+  }
+  // Summary over the files.
+  std::vector<double> acoustic, vp, cw;
+  for (const StudyCase& c : cases)
+    if (auto r = read_result(results / tag / (c.stem() + ".csv"))) {
+      if (c.v_p <= 0.1 + 1e-12 && std::isfinite(r->c_w)) acoustic.push_back(r->c_w);
+      if (c.v_p >= 1.0 - 1e-12 && std::isfinite(r->c_w) && !c.bender) {
+        vp.push_back(c.v_p);
+        cw.push_back(r->c_w);
+      }
+    }
+  if (!acoustic.empty()) {
+    double s = 0;
+    for (double x : acoustic) s += x;
+    std::printf("c_0 (mean c_w over v_p <= 0.1 m/s, %zu runs) = %.3f m/s\n", acoustic.size(), s / acoustic.size());
+  }
+  report_exponent(vp, cw);
+  if (tag == "length") {
+    std::vector<StudyResult> all;
+    for (const StudyCase& c : cases)
+      if (auto r = read_result(results / tag / (c.stem() + ".csv"))) all.push_back(*r);
+    const LengthVerdict v2 = length_verdict(all);
+    for (const auto& l : v2.lines) std::printf("  %s\n", l.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
-    usage();
-    return argc < 2 ? 2 : 0;
-  }
-  const std::string mode = argv[1];
-  if (mode != "validation" && mode != "channel") {
-    std::fprintf(stderr, "unknown sub-command '%s'\n", mode.c_str());
-    usage();
-    return 2;
+  // The sub-command is optional: without one the program runs the channel (quick mode, or the
+  // study with --study and friends).
+  std::string mode = "channel";
+  int first = 1;
+  if (argc >= 2 && argv[1][0] != '-') {
+    mode = argv[1];
+    first = 2;
+    if (mode != "validation" && mode != "channel") {
+      std::fprintf(stderr, "unknown sub-command '%s' (validation or channel; none = channel)\n", mode.c_str());
+      usage();
+      return 2;
+    }
   }
   std::filesystem::path out = "out/lunar_shock_channel";
   int threads = 2;
@@ -387,8 +754,13 @@ int main(int argc, char** argv) {
   std::vector<double> vps = {0.1, 1.0, 10.0};
   std::vector<std::pair<std::string, std::string>> channel_args;
   std::string bed_dir;
+  // study
+  std::string study;
+  bool list = false, measure_cost = false, pour_check = false, bed_only = false;
+  double study_length = 0.0;
+  std::uint64_t cost_steps = 2000;
   try {
-    for (int a = 2; a < argc; ++a) {
+    for (int a = first; a < argc; ++a) {
       const std::string arg = argv[a];
       auto next = [&]() -> std::string {
         if (a + 1 >= argc) throw InvalidParameter(arg + " needs a value");
@@ -419,10 +791,17 @@ int main(int argc, char** argv) {
       else if (arg == "--quiet") co.progress = false;
       else if (arg == "--vp") vps = parse_list(next());
       else if (arg == "--bed-dir") bed_dir = next();
+      else if (arg == "--study") study = next();
+      else if (arg == "--list") list = true;
+      else if (arg == "--study-length") study_length = std::stod(next());
+      else if (arg == "--measure-cost") measure_cost = true;
+      else if (arg == "--cost-steps") cost_steps = std::stoull(next());
+      else if (arg == "--pour-check") pour_check = true;
+      else if (arg == "--bed-only") bed_only = true;
       else if (arg == "--length" || arg == "--depth" || arg == "--width" || arg == "--packing" || arg == "--flux" ||
                arg == "--pour-speed" || arg == "--drop" || arg == "--settle-time" || arg == "--seed" ||
                arg == "--settle-force" || arg == "--settle-speed" || arg == "--settle-damping" || arg == "--zero-interval" ||
-               arg == "--dt-prepare" || arg == "--dt-max" ||
+               arg == "--dt-prepare" || arg == "--dt-max" || arg == "--dt-pour" || arg == "--rolling-damping" ||
                arg == "--frequency" || arg == "--run-time" || arg == "--dt-shock" || arg == "--sample" ||
                arg == "--cw-window" || arg == "--cp-window" || arg == "--pre-record" || arg == "--sensor-time")
         channel_args.emplace_back(arg, next());
@@ -436,6 +815,22 @@ int main(int argc, char** argv) {
     omp_set_num_threads(threads);
 #endif
     std::filesystem::create_directories(out);
+    const bool study_mode = !study.empty() || measure_cost || pour_check;
+    if (study_mode) {
+      if (mode == "validation") throw InvalidParameter("--study, --measure-cost and --pour-check belong to the channel");
+      if (!channel_args.empty() || paper)
+        throw InvalidParameter("the study fixes the channel options (study.hpp); '" +
+                               (paper ? std::string("--paper") : channel_args.front().first) + "' is not one of its options");
+      if (!(study_length >= 0.0)) throw InvalidParameter("--study-length must be > 0 m");
+      if (cost_steps < 100) throw InvalidParameter("--cost-steps must be >= 100");
+      const std::filesystem::path root = results.empty() ? out / "results" : results;
+      if (pour_check) run_pour_check(root, out, threads);
+      if (measure_cost) run_measure_cost(root, out, cost_steps, threads);
+      if (!study.empty()) return run_study(study, root, out, study_length, list, threads);
+      estimate_all(root, study_tags(), kShortLength, threads, true);
+      return 0;
+    }
+    if (list) throw InvalidParameter("--list needs --study TAG");
     if (mode == "validation") {
       if (material == "steel" || material == "both") vo.materials.push_back(steel());
       if (material == "soft" || material == "both") vo.materials.push_back(soft());
@@ -483,6 +878,8 @@ int main(int argc, char** argv) {
       else if (k == "--dt-shock") co.dt_shock = std::stod(v);
       else if (k == "--dt-prepare") co.dt_prepare = std::stod(v);
       else if (k == "--dt-max") co.dt_max = std::stod(v);
+      else if (k == "--dt-pour") co.dt_pour = std::stod(v);
+      else if (k == "--rolling-damping") co.rolling_damping = std::stod(v);
       else if (k == "--sample") co.sample_interval = std::stod(v);
       else if (k == "--pre-record") co.pre_record = std::stod(v);
       else if (k == "--sensor-time") co.sensor_time = std::stod(v);
@@ -494,6 +891,7 @@ int main(int argc, char** argv) {
       }
     }
     co.bed_dir = bed_dir.empty() ? out / "beds" : std::filesystem::path(bed_dir);
+    if (bed_only) vps.clear();
     return run_channel(co, vps, out);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

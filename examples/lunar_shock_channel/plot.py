@@ -12,6 +12,9 @@ files to OUT_DIR:
   channel_speeds_*.png  depth-averaged c_w and c_p vs v_p (001 fig. 9)
   channel_dz_*.png      bed-height change and delta_m/delta_0 vs y (001 figs. 15, 16)
   channel_arrivals_*.png  sensor position vs arrival time at mid depth (001 fig. 6)
+  study_speeds.png      the paper-scale study (results/loose, results/medium): c_w, c_p,
+                        delta_m/delta_0 and Delta z against v_p, with 001 table 8 beside them
+                        (drawn when at least one case file exists)
 """
 import csv
 import math
@@ -161,6 +164,51 @@ def plot_channel(out, tag):
     plt.close(fig)
 
 
+def plot_study(out):
+    """The paper-scale study's cases beside 001 table 8 (report.py holds the paper's values)."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import report  # noqa: E402
+
+    rows = {p: report.study_rows(p) for p in ("loose", "medium")}
+    if not any(rows.values()):
+        return
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4))
+    colours = {"loose": "C0", "medium": "C1"}
+    for p, rs in rows.items():
+        paper = report.PAPER_T8[p]
+        vp = [report.exponent_value(r[0]) for r in paper]
+        d0 = report.PAPER_DELTA0[p]
+        axes[0].errorbar(vp, [r[1] for r in paper], [r[2] for r in paper], fmt="s", mfc="none", color=colours[p],
+                         label="001 %s c_w" % p)
+        axes[0].errorbar(vp, [r[3] for r in paper], [r[4] for r in paper], fmt="^", mfc="none", color=colours[p],
+                         label="001 %s c_p" % p)
+        axes[1].plot(vp, [r[5] / d0 for r in paper], "s", mfc="none", color=colours[p], label="001 %s" % p)
+        axes[2].errorbar(vp, [r[7] for r in paper], [r[8] for r in paper], fmt="s", mfc="none", color=colours[p],
+                         label="001 %s" % p)
+        mine = sorted((r for r in rs if r["wave"] == "P" and float(r["rolling_damping"]) == 2.0),
+                      key=lambda r: float(r["v_p"]))
+        if not mine:
+            continue
+        v = [float(r["v_p"]) for r in mine]
+        axes[0].errorbar(v, [float(r["c_w"]) for r in mine], [float(r["c_w_sd"]) for r in mine], fmt="s-",
+                         color=colours[p], label="ours %s c_w" % p)
+        axes[0].errorbar(v, [float(r["c_p"]) for r in mine], [float(r["c_p_sd"]) for r in mine], fmt="^-",
+                         color=colours[p], label="ours %s c_p" % p)
+        axes[1].plot(v, [float(r["delta_m_over_delta_0"]) for r in mine], "s-", color=colours[p], label="ours %s" % p)
+        axes[2].errorbar(v, [float(r["dz"]) * 1e3 for r in mine], [float(r["dz_sd"]) * 1e3 for r in mine], fmt="s-",
+                         color=colours[p], label="ours %s" % p)
+    for ax, lab in zip(axes, ("wave speed [m/s]", "δ_m / δ_0", "Δz [mm]")):
+        ax.set_xscale("log")
+        ax.set_xlabel("$v_p$ [m/s]")
+        ax.set_ylabel(lab)
+        ax.legend(fontsize=7)
+    axes[0].set_yscale("log")
+    fig.suptitle("paper-scale channel: open symbols 001 table 8, filled ours")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "study_speeds.png"), dpi=130)
+    plt.close(fig)
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "out/lunar_shock_channel"
     # The grid validation's CSV files: in OUT_DIR when it was run without --results, else the
@@ -172,6 +220,7 @@ def main():
     plot_grid_preload(res, out)
     for tag in ("p", "s"):
         plot_channel(out, tag)
+    plot_study(out)
     print("figures written to", out)
 
 

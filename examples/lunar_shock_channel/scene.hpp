@@ -102,6 +102,13 @@ struct ChannelOptions {
   double region_height = 0.03;   ///< height of the insertion region [m] (001: 0.20)
   double pour_speed = 0.65;      ///< downward speed of inserted particles [m/s] (001: 0)
   double dt_prepare = 0.0;       ///< pour/settle time step [s]; 0 = min(largest allowed, dt_max)
+  /// Pour step [s]; 0 = dt_prepare's step. The pour material has no rolling damping, so the
+  /// rolling limit that sets dt_max does not apply to it (README, "Pour protocol").
+  double dt_pour = 0.0;
+  /// Rolling viscous damping ratio eta_r of the settle and shock material [-]. 001 table 2 and
+  /// section 2.4 give 2 (calibrated on a spinning particle, switched off for pouring and back on
+  /// after it); section 2.1 says the damping torque is neglected (0). README, "Rolling damping".
+  double rolling_damping = 2.0;
   /// Cap on the channel time steps chosen automatically (pour, settle, shock) [s]. At the
   /// engine's limit (0.2 Rayleigh times = 3.0e-5 s) a static bed never comes to rest: its mean
   /// net force stays at 5-8 particle weights with particles spinning at ~150 rad/s, whatever the
@@ -138,6 +145,11 @@ struct ChannelOptions {
   /// Force series are stored for this long after the impulse (0: the whole run); overlaps are
   /// tracked over the whole run [s].
   double sensor_time = 0.0;
+  /// After this long after the impulse the shock run continues at tail_dt [s] (0: never): the
+  /// fronts have crossed the channel, what is left is lofted particles landing and the bed
+  /// coming to rest (the at-rest height change), which needs no 1e-6 s step.
+  double tail_from = 0.0;
+  double tail_dt = 1e-5;         ///< [s], at most tau_c(fastest particle)/20
   double bin = 5e-3;             ///< sensor grid spacing in y and z [m] (001: 0.5 cm)
   double cw_from = 0.0, cw_to = 0.08;   ///< fit window for c_w along y [m] (001: 0-15 cm)
   double cp_from = 0.12, cp_to = 0.20;  ///< fit window for c_p along y [m] (001: 30-50 cm)
@@ -184,6 +196,10 @@ struct ChannelOptions {
     require_positive(settle_time, w, "settle_time");
     require_non_negative(dt_prepare, w, "dt_prepare");
     require_non_negative(dt_max, w, "dt_max");
+    require_non_negative(dt_pour, w, "dt_pour");
+    require(rolling_damping >= 0.0 && rolling_damping <= 10.0, w, "rolling_damping", rolling_damping, "[0, 10]");
+    require_non_negative(tail_from, w, "tail_from");
+    require_positive(tail_dt, w, "tail_dt");
     require_non_negative(settle_force, w, "settle_force");
     require_non_negative(settle_speed, w, "settle_speed");
     require_non_negative(settle_damping, w, "settle_damping");
@@ -196,8 +212,9 @@ struct ChannelOptions {
   }
 };
 
-/// Table-2 material; `pouring` gives the pouring variant (e -> 0, no rolling damping, 001 sec. 2.4).
-inline Material channel_material(bool pouring) {
+/// Table-2 material with rolling damping ratio eta_r; `pouring` gives the pouring variant
+/// (e -> 0, no rolling damping, 001 sec. 2.4).
+inline Material channel_material(bool pouring, double rolling_damping = 2.0) {
   Material m;
   m.name = pouring ? "regolith (pouring)" : "regolith";
   m.youngs_modulus = 5e6;           // [Pa]
@@ -205,7 +222,7 @@ inline Material channel_material(bool pouring) {
   m.density = 2500.0;               // [kg/m^3]
   m.friction = 1.0;
   m.rolling_friction = 0.8;
-  m.rolling_damping = pouring ? 0.0 : 2.0;
+  m.rolling_damping = pouring ? 0.0 : rolling_damping;
   m.restitution = pouring ? 0.01 : 0.5;  // 001 pours with e = 0; the Hertz damping needs e > 0
   m.cohesion_energy_density = 1000.0;    // [J/m^3]
   return m;
@@ -225,7 +242,7 @@ inline std::unique_ptr<ChannelSim> make_channel(const ChannelOptions& o, double 
   // measured step and leaves that check off; the Rayleigh check stays on.
   cfg.check_rolling_stability = false;
   auto sim = std::make_unique<ChannelSim>(cfg);
-  const Material m = channel_material(pouring);
+  const Material m = channel_material(pouring, o.rolling_damping);
   sim->add_material(m);
   const auto wall = sim->add_wall_material(m);
   sim->add_wall(geometry::PlaneShape<Dim3>(Vec(0, 0, 0), Vec(0, 0, 1)), wall);         // floor
@@ -246,9 +263,12 @@ inline double prepare_dt(const ChannelOptions& o) {
   return o.dt_max > 0.0 ? std::min(channel_max_dt(o), o.dt_max) : channel_max_dt(o);
 }
 
+/// Step of pouring: dt_pour, or prepare_dt [s].
+inline double pour_dt(const ChannelOptions& o) { return o.dt_pour > 0.0 ? o.dt_pour : prepare_dt(o); }
+
 namespace detail {
 /// FNV-1a hash of the bytes of some doubles.
-inline std::uint64_t hash_values(std::initializer_list<double> vals) {
+inline std::uint64_t hash_values(const std::vector<double>& vals) {
   std::uint64_t h = 1469598103934665603ull;
   for (double v : vals) {
     unsigned char b[sizeof(double)];
@@ -273,18 +293,21 @@ inline std::filesystem::path cache_name(const ChannelOptions& o, const char* kin
 inline std::filesystem::path poured_path(const ChannelOptions& o) {
   return detail::cache_name(o, "poured",
                             detail::hash_values({o.length, o.depth, o.width, o.radius, o.flux(), o.drop_height,
-                                                 o.region_height, o.pour_speed, prepare_dt(o), o.gravity,
+                                                 o.region_height, o.pour_speed, pour_dt(o), o.gravity,
                                                  static_cast<double>(o.seed), 1.0 /* pour recipe version */}));
 }
 
 /// Cache file of the settled bed: the name carries a hash of every bed parameter.
 inline std::filesystem::path bed_path(const ChannelOptions& o) {
-  return detail::cache_name(
-      o, "bed",
-      detail::hash_values({o.length, o.depth, o.width, o.radius, o.flux(), o.drop_height, o.region_height, o.pour_speed,
-                           prepare_dt(o), o.settle_time, o.zero_interval, o.gravity, static_cast<double>(o.seed),
-                           o.settle_force, o.settle_speed, o.settle_damping, o.settle_check,
-                           3.0 /* bed recipe version */}));
+  std::vector<double> key{o.length, o.depth, o.width, o.radius, o.flux(), o.drop_height, o.region_height, o.pour_speed,
+                          prepare_dt(o), o.settle_time, o.zero_interval, o.gravity, static_cast<double>(o.seed),
+                          o.settle_force, o.settle_speed, o.settle_damping, o.settle_check,
+                          3.0 /* bed recipe version */};
+  // Appended only when they differ from their first defaults, so that beds cached before
+  // these options existed keep their names.
+  if (o.dt_pour > 0.0 && o.dt_pour != prepare_dt(o)) key.push_back(o.dt_pour);
+  if (o.rolling_damping != 2.0) key.push_back(1000.0 + o.rolling_damping);
+  return detail::cache_name(o, "bed", detail::hash_values(key));
 }
 
 /// How quiet a bed is (001 section 2.4 settles until the mean force is 1e-11 N): net force
@@ -341,10 +364,15 @@ struct BedReport {
   double ke_per_particle = 0.0;  ///< at the end of settling [J]
   double packing_fraction = 0.0; ///< particle volume / (L W H) below the fill height [-]
   double mean_overlap = 0.0;     ///< mean particle-particle overlap delta_0 [m]
+  /// Particle volume over the volume of the interior, centres 2R from the floor and end walls
+  /// and 3R below the fill height: the packing fraction without the boundary layers [-].
+  double packing_interior = 0.0;
+  double coordination = 0.0;     ///< particle-particle contacts per particle, x 2 [-]
   Quietness quiet;               ///< of the bed as the shocks start from it
   std::vector<Quietness> settle_history;  ///< every settle_check while settling, time counted from its start
                                           ///< (empty for a cached bed)
   double pour_wall_seconds = 0.0;    ///< [s]
+  double pour_particle_steps = 0.0;  ///< sum over the pour's steps of the particles present [-]
   double settle_wall_seconds = 0.0;  ///< [s]
   double wall_seconds = 0.0;     ///< [s]
 };
@@ -366,9 +394,29 @@ inline double mean_overlap(const ChannelSim& sim) {
   return n ? s / static_cast<double>(n) : 0.0;
 }
 
+/// Particle-particle contacts per particle of the last recorded contacts, counted at both ends [-].
+inline double coordination(const ChannelSim& sim) {
+  std::size_t n = 0;
+  for (const auto& c : sim.recorded_contacts())
+    if (c.j != analysis::ContactRecord<Dim3>::kWall) ++n;
+  return 2.0 * static_cast<double>(n) / static_cast<double>(std::max<std::size_t>(1, sim.particles().owned()));
+}
+
+/// Packing fraction of the interior (BedReport::packing_interior) [-].
+inline double packing_interior(const ChannelSim& sim, const ChannelOptions& o) {
+  const double r = o.radius, y0 = 2.0 * r, y1 = o.length - 2.0 * r, z0 = 2.0 * r, z1 = o.depth - 3.0 * r;
+  if (!(y1 > y0 && z1 > z0)) return 0.0;
+  const auto& p = sim.particles();
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < p.owned(); ++i)
+    if (p.x[i].y() >= y0 && p.x[i].y() < y1 && p.x[i].z() >= z0 && p.x[i].z() < z1) ++n;
+  return static_cast<double>(n) * o.particle_volume() / ((y1 - y0) * (z1 - z0) * o.width);
+}
+
 /// Pours with e -> 0 and no rolling damping, copies the bed at rest into `bed` (table-2
 /// material) and deletes what is above the fill height.
-inline void pour_bed(const ChannelOptions& o, double dt, ChannelSim& bed, BedReport& rep) {
+/// `stop_after` > 0: stop pouring at that simulated time [s] (a cost segment).
+inline void pour_bed(const ChannelOptions& o, double dt, ChannelSim& bed, BedReport& rep, double stop_after = 0.0) {
   auto pour_sim = make_channel(o, dt, true);
   const double r = o.radius;
   geometry::Aabb<Dim3> region{Vec(r, r, o.depth + o.drop_height),
@@ -377,7 +425,10 @@ inline void pour_bed(const ChannelOptions& o, double dt, ChannelSim& bed, BedRep
   const double rate = o.flux() * o.length * o.width;  // [particles/s]
   scene::Pour<ChannelSim> pour(*pour_sim, region, scene::MonodisperseSizes(r), scene::StreamSchedule(rate, total), 0,
                                Vec(0, 0, -o.pour_speed), 0, o.seed);
-  io::ProgressReporter progress({.end_time = 0.0, .mode = o.progress ? io::ProgressMode::On : io::ProgressMode::Off,
+  // ETA from the expected pour time: the insertion, the fall from the top of the region, 0.2 s.
+  const double expected = static_cast<double>(total) / rate +
+                          std::sqrt(2.0 * (o.depth + o.drop_height + o.region_height) / o.gravity) + 0.2;
+  io::ProgressReporter progress({.end_time = expected, .mode = o.progress ? io::ProgressMode::On : io::ProgressMode::Off,
                                  .interval = 5.0, .label = "pour"});
   const auto every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(1e-3 / dt)));
   // Pour, then let the last particles land: stop when the mean kinetic energy per particle
@@ -385,8 +436,9 @@ inline void pour_bed(const ChannelOptions& o, double dt, ChannelSim& bed, BedRep
   const double m = channel_material(false).density * o.particle_volume();
   const double quiet = 0.5 * m * 1e-4;
   const double t_limit = static_cast<double>(total) / rate + 3.0;
-  while (pour_sim->time() < t_limit) {
+  while (pour_sim->time() < t_limit && (stop_after <= 0.0 || pour_sim->time() < stop_after)) {
     pour.update();
+    rep.pour_particle_steps += static_cast<double>(pour_sim->particles().owned()) * static_cast<double>(every);
     pour_sim->run(every);
     progress.update(pour_sim->step_count(), pour_sim->time());
     if (pour.finished()) {
@@ -490,7 +542,7 @@ inline BedReport prepare_bed(const ChannelOptions& o) {
         rep.pour_time = std::bit_cast<double>(user[2]);
       }
     } else {
-      detail::pour_bed(o, dt, *bed, rep);
+      detail::pour_bed(o, pour_dt(o), *bed, rep);
       io::write_checkpoint(*bed, poured.string(), {rep.poured, rep.removed, std::bit_cast<std::uint64_t>(rep.pour_time)});
     }
     rep.pour_wall_seconds = detail::elapsed_since(t_pour);
@@ -507,6 +559,8 @@ inline BedReport prepare_bed(const ChannelOptions& o) {
   bed->request_contacts();
   bed->step();
   rep.mean_overlap = detail::mean_overlap(*bed);
+  rep.coordination = detail::coordination(*bed);
+  rep.packing_interior = detail::packing_interior(*bed, o);
   rep.quiet = measure_quietness(*bed, o.gravity);
   rep.wall_seconds = detail::elapsed_since(t_wall);
   return rep;
@@ -532,6 +586,7 @@ struct ShockResult {
   double wall_seconds = 0.0;            ///< [s]
   std::uint64_t steps = 0;
   std::size_t particles = 0;
+  double dt_tail = 0.0;                 ///< step after tail_from, 0 if none [s]
 };
 
 namespace detail {
@@ -571,7 +626,8 @@ inline std::pair<double, double> row_speed(const std::vector<double>& y, const s
 }  // namespace detail
 
 /// Loads the settled bed and sends one P wave (piston) or S wave (bender) of speed v_p.
-inline ShockResult run_shock(const ChannelOptions& o, double v_p) {
+/// `bed`: the settled bed's checkpoint (default bed_path(o)).
+inline ShockResult run_shock(const ChannelOptions& o, double v_p, const std::filesystem::path& bed = {}) {
   o.validate();
   require(v_p > 0.0 && std::isfinite(v_p), "lunar_shock::run_shock", "v_p", v_p, "(0, inf) m/s");
   const auto t_wall = std::chrono::steady_clock::now();
@@ -579,7 +635,8 @@ inline ShockResult run_shock(const ChannelOptions& o, double v_p) {
   const double dt_bed = prepare_dt(o);
   auto sim_ptr = make_channel(o, dt_bed, false);
   ChannelSim& sim = *sim_ptr;
-  io::read_checkpoint(sim, bed_path(o).string());
+  io::read_checkpoint(sim, (bed.empty() ? bed_path(o) : bed).string());
+  const std::uint64_t steps0 = sim.step_count();
   // Rough floor: the sheet z < 2R, frozen (001 section 2.6). Piston/bender: the sheet y < 2R.
   const std::uint32_t floor_group = 1, piston_group = 2;
   {
@@ -699,12 +756,34 @@ inline ShockResult run_shock(const ChannelOptions& o, double v_p) {
   io::ProgressReporter progress({.end_time = run_time, .mode = o.progress ? io::ProgressMode::On : io::ProgressMode::Off,
                                  .interval = 5.0, .label = o.bender ? "bender" : "piston"});
   bool released = !o.bender;
-  const std::uint64_t height_every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(2e-3 / dt)));
+  const auto steps_per = [](double interval, double step) {
+    return std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(interval / step)));
+  };
+  std::uint64_t height_every = steps_per(2e-3, dt);
   // Ceiling: particles lofted 3 cm below the top of the domain are removed (checked every
   // 1 ms, which is safe below 30 m/s); 001 lets its domain grow instead (shrink-wrap ceiling).
   const double ceiling = sim.config().domain.hi.z() - 0.03;
-  const std::uint64_t ceiling_every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(1e-3 / dt)));
+  std::uint64_t ceiling_every = steps_per(1e-3, dt);
+  bool tail = false;
   while (sim.time() - t0 < run_time) {
+    if (!tail && o.tail_from > 0.0 && sim.time() - t0 >= o.tail_from && o.tail_dt > dt) {
+      // The tail: a longer step, capped at 1/20 of the collision time of the fastest particle
+      // (at least 0.1 m/s, the elastic limit of 001 section 4). The sensors' sampling stays
+      // every `every` steps, so it becomes coarser in time by the same factor.
+      const PairMaterial pm = sim.materials().pair(0, 0);
+      const double m = channel_material(false).density * o.particle_volume();
+      double vmax = 0.1;
+      const auto& p = sim.particles();
+      for (std::size_t i = 0; i < p.owned(); ++i) vmax = std::max(vmax, p.v[i].norm());
+      const double dt_tail = std::min(o.tail_dt, hertz_collision_time(0.5 * m, pm.E_eff, 0.5 * r, vmax) / 20.0);
+      if (dt_tail > dt) {
+        sim.set_dt(dt_tail);
+        height_every = steps_per(2e-3, dt_tail);
+        ceiling_every = steps_per(1e-3, dt_tail);
+        res.dt_tail = dt_tail;
+      }
+      tail = true;
+    }
     sim.step();
     if (sim.step_count() % ceiling_every == 0) res.ejected += scene::remove_above(sim, 2, ceiling);
     if (!released && sim.time() - t0 >= 1.0 / o.bender_frequency - 0.5 * dt) {
@@ -718,14 +797,15 @@ inline ShockResult run_shock(const ChannelOptions& o, double v_p) {
       for (std::size_t i = 0; i < p.owned(); ++i)
         if (p.group[i] == 0) res.max_particle_speed = std::max(res.max_particle_speed, p.v[i].norm());
     }
-    if (t > 0.8 * run_time && sim.step_count() % height_every == 0) {
+    // Final height: the mean over the last 0.2 s (001 section 2.8.2), or the last 20 % of a short run.
+    if (t > std::max(0.8 * run_time, run_time - 0.2) && sim.step_count() % height_every == 0) {
       const auto h = heights();
       for (int j = 0; j < ny; ++j) h_end[static_cast<std::size_t>(j)] += h[static_cast<std::size_t>(j)];
       ++h_count;
     }
   }
   progress.finish(sim.step_count(), sim.time() - t0);
-  res.steps = sim.step_count();
+  res.steps = sim.step_count() - steps0;
   res.particles = sim.particles().owned();
 
   // Arrivals and front speeds per depth (001 section 2.8.3).

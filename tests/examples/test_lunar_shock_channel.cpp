@@ -17,9 +17,13 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
 #include <vector>
 
 #include "../../examples/lunar_shock_channel/scene.hpp"
+#include "../../examples/lunar_shock_channel/study.hpp"
 
 using namespace granule::examples::lunar_shock;
 
@@ -201,4 +205,173 @@ TEST_CASE("lunar shock channel: a small bed settles until quiet and is cached", 
   CHECK(ra.settle_time == a.settle_time);
   CHECK(ra.quiet.force_mean == Approx(a.quiet.force_mean).epsilon(1e-12));
   std::filesystem::remove_all(o.bed_dir);
+}
+
+// ---- The paper-scale study (study.hpp): case list, length check, resume, cost model ----------
+
+namespace lunar_study_test {
+StudyResult result_of(const StudyCase& c, double c_w, double c_p, double ratio) {
+  StudyResult r;
+  r.c = c;
+  r.c_w = c_w;
+  r.c_p = c_p;
+  r.delta_ratio = ratio;
+  r.particles = 1000;
+  r.prov = {"abc", "2026-12-06T00:00:00Z", "test, 2 threads"};
+  return r;
+}
+}  // namespace lunar_study_test
+
+TEST_CASE("lunar shock channel study: the cases are 001's", "[examples][lunar_shock_channel]") {
+  // Loose: the nine piston speeds of 001 table 8 (10^n, n = -2 ... 1), acoustic and 10 m/s first.
+  const auto loose = study_cases("loose", 0.5);
+  REQUIRE(loose.size() == 9);
+  CHECK(loose[0].v_p == Approx(0.1));
+  CHECK(loose[1].v_p == Approx(10.0));
+  std::set<double> speeds;
+  for (const auto& c : loose) {
+    CHECK(c.packing == Packing::Loose);
+    CHECK(c.length == 0.5);
+    CHECK(c.rolling_damping == 2.0);
+    speeds.insert(c.v_p);
+  }
+  const std::vector<double> table8{0.01, 0.1, 0.316228, 0.562341, 1.0, 1.77828, 3.16228, 5.62341, 10.0};
+  REQUIRE(speeds.size() == table8.size());
+  std::size_t k = 0;
+  for (double v : speeds) CHECK(v == Approx(table8[k++]).epsilon(1e-5));
+  // Length check: 0.5 and 1 m at one acoustic speed and at 10 m/s, whatever length is given.
+  const auto len = study_cases("length", 1.0);
+  REQUIRE(len.size() == 4);
+  std::set<std::pair<double, double>> lv;
+  for (const auto& c : len) lv.insert({c.length, c.v_p});
+  CHECK(lv == std::set<std::pair<double, double>>{{0.5, 0.1}, {0.5, 10.0}, {1.0, 0.1}, {1.0, 10.0}});
+  // Medium: c_0 (0.01, 0.1) and the 10 m/s row; rolling: the other reading (eta_r = 0).
+  const auto med = study_cases("medium", 1.0);
+  REQUIRE(med.size() == 3);
+  for (const auto& c : med) CHECK((c.packing == Packing::Medium && c.length == 1.0));
+  for (const auto& c : study_cases("rolling", 0.5)) CHECK(c.rolling_damping == 0.0);
+  CHECK(study_cases("bender", 0.5).at(0).bender);
+  // Stems name every parameter: equal stems only where two tags share a case (length and loose
+  // at 0.5 m, 0.1 and 10 m/s), so those run once.
+  std::set<std::string> stems;
+  std::size_t n = 0;
+  for (const auto& t : study_tags())
+    for (const auto& c : study_cases(t, 0.5)) {
+      stems.insert(c.stem());
+      ++n;
+    }
+  CHECK(n - stems.size() == 2);
+  CHECK_THROWS_AS(study_cases("compact", 0.5), granule::InvalidParameter);
+  // The study's channel: 001's cross-section and depth (80 diameters), shock step 1e-6 s.
+  const ChannelOptions o = study_options(loose[1]);
+  CHECK(o.width == 0.02);
+  CHECK(o.depth / (2.0 * o.radius) == Approx(80.0));
+  CHECK(o.dt_shock == 1e-6);
+  CHECK(o.tail_from * 3.9 > o.length);  // the slowest front measured (3.9 m/s) has reached the end
+  CHECK(o.run_time - o.tail_from >= 0.4 - 1e-12);
+  CHECK(channel_material(false, 0.0).rolling_damping == 0.0);
+  CHECK(channel_material(false).rolling_damping == 2.0);
+  CHECK(channel_material(true, 2.0).rolling_damping == 0.0);  // the pour never damps rolling (001 sec. 2.4)
+}
+
+TEST_CASE("lunar shock channel study: the length-check verdict", "[examples][lunar_shock_channel]") {
+  using lunar_study_test::result_of;
+  const auto cases = study_cases("length", 0.5);
+  std::vector<StudyResult> r;
+  for (const auto& c : cases) r.push_back(result_of(c, c.v_p > 1 ? 10.0 : 6.5, c.v_p > 1 ? 8.0 : 7.0, 3.0));
+  // Three of four cases: not run, the short length is the provisional default.
+  std::vector<StudyResult> three(r.begin(), r.begin() + 3);
+  CHECK(length_verdict(three).state == LengthVerdict::State::NotRun);
+  // Equal values: pass, the 0.5 m channel is used.
+  LengthVerdict v = length_verdict(r);
+  CHECK(v.state == LengthVerdict::State::Pass);
+  CHECK(v.length == kShortLength);
+  CHECK(v.lines.size() == 6);  // 2 speeds x (c_w, c_p, delta_m/delta_0)
+  // c_p of the short channel 4 % off: still within the 5 % tolerance; 6 %: fail, 1 m is used.
+  for (auto& x : r)
+    if (x.c.length == kShortLength && x.c.v_p == kCheckShock) x.c_p = 8.0 * 1.04;
+  CHECK(length_verdict(r).state == LengthVerdict::State::Pass);
+  for (auto& x : r)
+    if (x.c.length == kShortLength && x.c.v_p == kCheckShock) x.c_p = 8.0 * 1.06;
+  v = length_verdict(r);
+  CHECK(v.state == LengthVerdict::State::Fail);
+  CHECK(v.length == kLongLength);
+  CHECK(v.worst == Approx(0.06));
+  CHECK(v.worst_what.find("c_p") != std::string::npos);
+  // No acoustic front at one length: nothing to compare is not an agreement.
+  for (auto& x : r) {
+    x.c_p = x.c.v_p > 1 ? 8.0 : 7.0;
+    if (x.c.length == kLongLength && x.c.v_p == kCheckAcoustic) x.c_w = NAN;
+  }
+  CHECK(length_verdict(r).state == LengthVerdict::State::Fail);
+}
+
+TEST_CASE("lunar shock channel study: result files and the skip of cases done", "[examples][lunar_shock_channel]") {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::path(GRANULE_BINARY_DIR) / "lunar_study_test_results";
+  fs::remove_all(root);
+  const auto len = study_cases("length", 0.5);
+  const StudyCase shared = len.at(0);  // loose, 0.5 m, 10 m/s: also a case of "loose"
+  REQUIRE(shared.v_p == 10.0);
+  StudyResult r = lunar_study_test::result_of(shared, 10.36, 8.31, 3.17);
+  r.dz = 0.96e-3;
+  r.wall_time = 1234.5;
+  write_result(root / "length" / (shared.stem() + ".csv"), r);
+  // Round trip, provenance included.
+  const auto back = read_result(root / "length" / (shared.stem() + ".csv"));
+  REQUIRE(back);
+  CHECK(back->c.stem() == shared.stem());
+  CHECK(back->c_w == Approx(10.36));
+  CHECK(back->c_p == Approx(8.31));
+  CHECK(back->dz == Approx(0.96e-3));
+  CHECK(back->prov.machine == "test, 2 threads");
+  // The same case of another tag is found in the sibling directory and copied (run once).
+  StudyCase as_loose = shared;
+  as_loose.tag = "loose";
+  CHECK_FALSE(fs::exists(root / "loose" / (shared.stem() + ".csv")));
+  const auto found = find_result(root, as_loose);
+  REQUIRE(found);
+  CHECK(found->c_w == Approx(10.36));
+  CHECK(fs::exists(root / "loose" / (shared.stem() + ".csv")));
+  // A case without a file, a file cut short (killed while writing) or renamed is not done.
+  StudyCase other = shared;
+  other.v_p = 1.0;
+  other.tag = "loose";
+  CHECK_FALSE(find_result(root, other));
+  {
+    std::ofstream f(root / "loose" / (other.stem() + ".csv"));
+    f << "tag,case\n";
+  }
+  CHECK_FALSE(find_result(root, other));
+  fs::copy_file(root / "length" / (shared.stem() + ".csv"), root / "loose" / (other.stem() + ".csv"),
+                fs::copy_options::overwrite_existing);
+  CHECK_FALSE(read_result(root / "loose" / (other.stem() + ".csv")));
+  fs::remove_all(root);
+}
+
+TEST_CASE("lunar shock channel study: the cost model", "[examples][lunar_shock_channel]") {
+  // Particles of the 2 m bed at table 3's loose packing fraction 0.5472 (by bins): table 3's
+  // 536 180 grains fill 2 m x 2 cm x 20 cm to 0.5483, so they agree to 0.3 %.
+  StudyCase c{"paper", Packing::Loose, 2.0, 10.0};
+  ChannelOptions o = study_options(c);
+  CHECK(bed_particles(o) == Approx(536180.0).epsilon(3e-3));
+  CHECK(bed_particles(o) < 536180.0);
+  // Shock: particles x steps x cost; 1e-6 s up to tail_from (plus the pre-record), 1e-5 s after.
+  const PhaseCost cost{100.0, 100.0, 200.0};
+  const CaseEstimate e = estimate_case(o, cost, false, false);
+  CHECK(e.pour == 0.0);
+  CHECK(e.settle == 0.0);
+  const double steps = (o.pre_record + o.tail_from) / 1e-6 + (o.run_time - o.tail_from) / 1e-5;
+  CHECK(e.shock == Approx(bed_particles(o) * steps * 200e-9));
+  // Settle: kSettleTimeAssumed at the settle step; pour: the insertion at the table-3 rate
+  // (loose 600 000 particles/s in 2 m) plus the fall from the top of the insertion region.
+  const CaseEstimate f = estimate_case(o, cost, true, true);
+  CHECK(f.settle == Approx(bed_particles(o) * kSettleTimeAssumed / 1e-5 * 100e-9));
+  const double n = static_cast<double>(o.pour_count());
+  const double t_land = std::sqrt(2.0 * (0.2 + 0.1 + 0.2) / 1.625) + 0.2;
+  CHECK(f.pour == Approx(n * (0.5 * n / 600000.0 + t_land) / 1e-5 * 100e-9));
+  // Beds: both rolling readings share a pour, not a settled bed.
+  StudyCase a{"loose", Packing::Loose, 0.5, 0.1}, b{"rolling", Packing::Loose, 0.5, 0.1, 0.0};
+  CHECK(pour_key(a) == pour_key(b));
+  CHECK(settle_key(a) != settle_key(b));
 }
