@@ -9,7 +9,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <sstream>
@@ -23,6 +25,7 @@
 #include <granule/io/csv.hpp>
 #include <granule/io/progress.hpp>
 
+#include "../common/cli.hpp"
 #include "../common/provenance.hpp"
 
 #include "scene.hpp"
@@ -30,91 +33,9 @@
 
 using namespace granule;
 using namespace granule::examples::lunar_shock;
+namespace cli = granule::examples::cli;
 
 namespace {
-
-void usage() {
-  std::printf(
-      "usage: lunar_shock_channel [validation|channel] [options]     (no sub-command: channel)\n"
-      "\n"
-      "common:\n"
-      "  --out DIR              output directory (out/lunar_shock_channel)\n"
-      "  --threads N            OpenMP threads (2)\n"
-      "\n"
-      "validation (001 section 2.2 = the set-up of its ref. [93]: a 5 x 5 grid standing on a floor,\n"
-      "an incident particle dropped onto the top of the middle column):\n"
-      "  --material steel|soft|both   table-1 species (both)\n"
-      "  --velocities LIST      impact speeds v_im, comma separated [m/s]\n"
-      "                         (1e-6,1e-5,1e-4,1e-3,1e-2,3e-2,0.1,0.3,1,3,10)\n"
-      "  --load gravity|uniform what loads the grid statically (gravity: the grid's own weight)\n"
-      "  --gravity LIST         gravity load: g values, comma separated [m/s^2] (9.81,1.625)\n"
-      "  --preload F0|paper     uniform load: static force per contact along the struck lines [N];\n"
-      "                         'paper' = the F0 whose chain sound speed 2R sqrt(k_lin/m) is table 1's\n"
-      "                         c_0 (default), 0 = no pre-load (sonic vacuum)\n"
-      "  --sweep LIST           also measure the plateau under uniform pre-loads F0 = w m g_Earth for\n"
-      "                         these w (1e-2 ... 100, half decades) and where it meets table 1\n"
-      "  --no-sweep             skip that sweep\n"
-      "  --results DIR          where the CSV files go (--out)\n"
-      "  --restitution E        coefficient of restitution e [-] (1: elastic)\n"
-      "  --length N             particles along the struck row, striker included (6 = striker + 5)\n"
-      "  --dt DT                time step [s] (0: the largest the engine's check allows)\n"
-      "  --plateau-max V        plateau: mean c_w over v_im <= V [m/s] (1e-4, as 001)\n"
-      "  --shock-min V          shock branch: power-law fit over v_im >= V [m/s] (1)\n"
-      "\n"
-      "channel (001 sections 2.3-2.9; quick defaults, --paper for the paper's sizes):\n"
-      "  --paper                2 m x 20 cm x 2 cm channel, dt 1e-6 s, 1.5 s runs (~5e5 particles)\n"
-      "  --length L             channel length along y [m] (0.25)\n"
-      "  --depth H              fill height [m] (0.035)\n"
-      "  --width W              periodic width along x [m] (0.02)\n"
-      "  --packing loose|medium|compact   insertion flux of table 3 (loose)\n"
-      "  --flux Q               insertion flux instead [particles/(s m^2)]\n"
-      "  --pour-speed V         downward speed of inserted particles [m/s] (0.65; paper 0)\n"
-      "  --drop H               insertion region bottom above the fill height [m] (0.02; paper 0.10)\n"
-      "  --settle-time T        longest settling time [s] (1; paper 5)\n"
-      "  --settle-force F       stop settling once the mean net force per particle is below F weights m g\n"
-      "                         [-] (1e-3; paper 3e-7 = 1e-11 N; 0: settle the whole --settle-time)\n"
-      "  --settle-speed V       ... and no particle faster than V [m/s] (1e-3; 0: no condition)\n"
-      "  --settle-damping G     background damping of velocities and spins while settling [1/s] (0: none)\n"
-      "  --zero-interval T      velocities zeroed this often while settling [s] (0.025; 0: never)\n"
-      "  --seed S               insertion seed (1)\n"
-      "  --vp LIST              piston speeds v_p, comma separated [m/s] (0.1,1,10)\n"
-      "  --bender               S wave: sheet follows z = A sin(2 pi f t) for one period, A = v_p/(2 pi f)\n"
-      "  --frequency F          bender frequency [Hz] (5e4)\n"
-      "  --run-time T           simulated time after the impulse [s] (0: 2.5 L / 7 m/s)\n"
-      "  --dt-shock DT          shock time step [s] (0: min(engine limit, dt-max, tau_c(v_p)/20, period/20))\n"
-      "  --dt-prepare DT        pour and settle time step [s] (0: min(engine limit, dt-max); paper 1e-6)\n"
-      "  --dt-max DT            cap on the automatic time steps [s] (1e-5; 0: none, the engine limit 3e-5)\n"
-      "  --sample DT            sensor sampling interval [s] (2e-5)\n"
-      "  --pre-record T         sensors record T before the impulse: initial level [s] (1e-3)\n"
-      "  --sensor-time T        keep force series for T after the impulse [s] (0: whole run; paper 0.25)\n"
-      "  --cw-window A,B        fit window for c_w along y [m] (0,0.08; paper 0,0.15)\n"
-      "  --cp-window A,B        fit window for c_p along y [m] (0.12,0.2; paper 0.3,0.5)\n"
-      "  --bed-dir DIR          cache of settled beds (OUT/beds)\n"
-      "  --rolling-damping G    rolling viscous damping ratio eta_r of settling and shocks [-] (2: 001 table 2;\n"
-      "                         0: 001 section 2.1, 'neglected'); the pour uses 0 either way\n"
-      "  --dt-pour DT           pour time step [s] (0: the pour/settle step)\n"
-      "  --bed-only             prepare (or load) the bed, print it, run no shock\n"
-      "\n"
-      "paper-scale study (001's grains, 2 cm x 20 cm cross-section, shock dt 1e-6 s; study.hpp):\n"
-      "  --study TAG            length | loose | medium | rolling | bender: runs the tag's cases, one result\n"
-      "                         file each in RESULTS/TAG/, skipping those done (same case in another tag: copied)\n"
-      "  --list                 with --study: the cases, done or not, and their estimated wall time\n"
-      "  --study-length L       channel length of the study [m] (default: 0.5 if the length check passed, 1 if not)\n"
-      "  --results DIR          root of the study's result directories (OUT/results)\n"
-      "  --measure-cost         time short segments (settle, shock) of lattice beds of 0.5 m and 1 m, write\n"
-      "                         RESULTS/cost/cost_measured.csv and cost_estimate.csv\n"
-      "  --cost-steps N         steps per cost segment (2000)\n"
-      "  --pour-check           pour a 5 cm x 3 cm bed at dt 1e-5 s and 1e-6 s: RESULTS/cost/pour_check.csv\n"
-      "  --quiet                no progress lines on stderr\n");
-}
-
-std::vector<double> parse_list(const std::string& s) {
-  std::vector<double> v;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ',')) v.push_back(std::stod(item));
-  return v;
-}
 
 /// One load case of the grid validation.
 struct GridCase {
@@ -134,14 +55,15 @@ struct GridCase {
 struct ValidationOptions {
   std::vector<GridMaterial> materials;
   std::vector<GridCase> cases;
-  std::vector<double> velocities;
+  std::vector<double> velocities = {1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 3e-2, 0.1, 0.3, 1, 3, 10};
   double restitution = 1.0;
   int length = 6;
   double dt = 0.0;
   double plateau_max = 1e-4;
   double shock_min = 1.0;
   bool sweep = true;
-  std::vector<double> sweep_weights;  ///< uniform pre-loads of the sweep [m g_Earth]
+  /// Uniform pre-loads of the sweep [m g_Earth] (half decades).
+  std::vector<double> sweep_weights = {1e-2, 3.16e-2, 0.1, 0.316, 1, 3.16, 10, 31.6, 100};
 };
 
 /// A CSV file whose first line says where its numbers came from.
@@ -722,179 +644,340 @@ int run_study(const std::string& tag, const std::filesystem::path& results, cons
   return 0;
 }
 
+// ---------------------------------------------------------------------------------------------
+// The command line (examples/common/cli.hpp)
+// ---------------------------------------------------------------------------------------------
+
+/// Everything the command line sets.
+struct Options {
+  std::filesystem::path out = "out/lunar_shock_channel";
+  std::filesystem::path results;  ///< empty: OUT (validation), OUT/results (study)
+  int threads = 2;
+  // validation
+  ValidationOptions vo;
+  std::string material = "both";
+  GridLoad load = GridLoad::Gravity;
+  std::vector<double> gravities = {kEarthGravity, kLunarGravity};
+  std::optional<double> preload;  ///< uniform load [N]; nothing: the F0 of table 1's c_0
+  // channel
+  ChannelOptions co;
+  std::vector<double> vps = {0.1, 1.0, 10.0};
+  std::filesystem::path bed_dir;  ///< empty: OUT/beds
+  bool bed_only = false;
+  // study
+  std::string study;
+  bool list = false, measure_cost = false, pour_check = false;
+  double study_length = 0.0;  ///< 0: from the length check
+  std::uint64_t cost_steps = 2000;
+};
+
+// Options of the channel's scene: the study fixes them (study.hpp), the validation has none.
+const std::vector<std::string> lunar_channel_options = {
+    "--paper",        "--length",       "--depth",          "--width",         "--packing",     "--flux",
+    "--pour-speed",   "--drop",         "--settle-time",    "--settle-force",  "--settle-speed", "--settle-damping",
+    "--zero-interval", "--seed",        "--vp",             "--bender",        "--frequency",   "--run-time",
+    "--dt-shock",     "--dt-prepare",   "--dt-max",         "--dt-pour",       "--rolling-damping", "--sample",
+    "--pre-record",   "--sensor-time",  "--cw-window",      "--cp-window",     "--bed-dir",     "--bed-only"};
+const std::vector<std::string> lunar_study_options = {"--study",        "--list",       "--study-length",
+                                                      "--measure-cost", "--cost-steps", "--pour-check"};
+
+std::string list_text(const std::vector<double>& v) {
+  std::string s;
+  for (double x : v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%g", x);
+    if (!s.empty()) s += ',';
+    s += b;
+  }
+  return s;
+}
+
+/// `--name a|b|c`: one of `choices`, handed to `set`.
+CLI::Option* add_choice(CLI::App& app, const std::string& name, const std::vector<std::string>& choices,
+                        std::function<void(const std::string&)> set, const std::string& help,
+                        const std::string& default_value) {
+  std::string all;
+  for (const auto& c : choices) all += (all.empty() ? "" : "|") + c;
+  CLI::Option* o = app.add_option_function<std::string>(
+      name,
+      [name, choices, all, set](const std::string& s) {
+        if (std::find(choices.begin(), choices.end(), s) == choices.end())
+          throw CLI::ValidationError(name + " = '" + s + "' is not one of " + all);
+        set(s);
+      },
+      help);
+  o->type_name(all)->default_str(default_value);
+  return o;
+}
+
+/// `--name A,B`: a fit window along y [m], 0 <= A < B.
+CLI::Option* add_window(CLI::App& app, const std::string& name, double& from, double& to, const std::string& help) {
+  CLI::Option* o = app.add_option_function<std::string>(
+      name,
+      [name, &from, &to](const std::string& s) {
+        const auto w = cli::to_real_list(name, s, cli::non_negative());
+        if (w.size() != 2)
+          throw CLI::ValidationError(name + " = '" + s + "' has " + std::to_string(w.size()) + " values, expected 2");
+        if (!(w[1] > w[0])) throw CLI::ValidationError(name + " = " + s + ": needs A < B");
+        from = w[0];
+        to = w[1];
+      },
+      help);
+  o->type_name("A,B")->default_str(list_text({from, to}));
+  return o;
+}
+
+/// The grid validation's options, on its sub-command.
+void add_validation_options(CLI::App& v, Options& o) {
+  add_choice(v, "--material", {"steel", "soft", "both"}, [&o](const std::string& s) { o.material = s; },
+             "table-1 species", o.material);
+  cli::add_real_list(v, "--velocities", o.vo.velocities, "impact speeds v_im [m/s]", cli::positive())
+      ->default_str(list_text(o.vo.velocities));
+  add_choice(v, "--load", {"gravity", "uniform"},
+             [&o](const std::string& s) { o.load = s == "uniform" ? GridLoad::Uniform : GridLoad::Gravity; },
+             "what loads the grid statically (gravity: the grid's own weight)", "gravity");
+  cli::add_real_list(v, "--gravity", o.gravities, "gravity load: g values [m/s^2]", cli::positive())
+      ->default_str(list_text(o.gravities));
+  v.add_option_function<std::string>(
+       "--preload",
+       [&o](const std::string& s) {
+         if (s == "paper") o.preload.reset();
+         else o.preload = cli::to_real("--preload", s, cli::non_negative());
+       },
+       "uniform load: static force per contact along the struck lines [N]; 'paper' = the F0 whose chain "
+       "sound speed 2R sqrt(k_lin/m) is table 1's c_0; 0 = no pre-load (sonic vacuum)")
+      ->type_name("F0|paper")
+      ->default_str("paper");
+  cli::add_real_list(v, "--sweep", o.vo.sweep_weights,
+                     "also measure the plateau under uniform pre-loads F0 = w m g_Earth for these w, and where it "
+                     "meets table 1",
+                     cli::positive())
+      ->default_str(list_text(o.vo.sweep_weights));
+  v.add_flag_callback("--no-sweep", [&o] { o.vo.sweep = false; }, "skip that sweep");
+  cli::add_real(v, "--restitution", o.vo.restitution, "coefficient of restitution e [-] (1: elastic)",
+                cli::Range{0.0, 1.0, false, true});
+  cli::add_whole<int>(v, "--length", o.vo.length, "particles along the struck row, striker included (6 = striker + 5)",
+                      6, 100000);
+  cli::add_real(v, "--dt", o.vo.dt, "time step [s] (0: the largest the engine's check allows)", cli::non_negative());
+  cli::add_real(v, "--plateau-max", o.vo.plateau_max, "plateau: mean c_w over v_im <= V [m/s] (1e-4, as 001)",
+                cli::positive());
+  cli::add_real(v, "--shock-min", o.vo.shock_min, "shock branch: power-law fit over v_im >= V [m/s]", cli::positive());
+}
+
+/// The channel's and the study's options, on the program itself (the `channel` sub-command and
+/// no sub-command both run the channel).
+void add_channel_options(CLI::App& app, Options& o) {
+  const std::string ch = "channel (001 sections 2.3-2.9; quick defaults, --paper for the paper's sizes)";
+  ChannelOptions& co = o.co;
+  app.add_flag_callback("--paper", [] {},  // set before parsing (main), so that later options override it
+                        "2 m x 20 cm x 2 cm channel, dt 1e-6 s, 1.5 s runs (~5e5 particles)")
+      ->group(ch);
+  cli::add_real(app, "--length", co.length, "channel length along y [m]", cli::positive())->group(ch);
+  cli::add_real(app, "--depth", co.depth, "fill height [m]", cli::positive())->group(ch);
+  cli::add_real(app, "--width", co.width, "periodic width along x [m]", cli::positive())->group(ch);
+  add_choice(app, "--packing", {"loose", "medium", "compact"},
+             [&co](const std::string& s) { co.packing = study_detail::packing_of(s); }, "insertion flux of table 3",
+             packing_name(co.packing))
+      ->group(ch);
+  cli::add_real(app, "--flux", co.insertion_flux, "insertion flux instead [particles/(s m^2)] (0: table 3's)",
+                cli::non_negative())
+      ->group(ch);
+  cli::add_real(app, "--pour-speed", co.pour_speed, "downward speed of inserted particles [m/s] (paper 0)",
+                cli::non_negative())
+      ->group(ch);
+  cli::add_real(app, "--drop", co.drop_height, "insertion region bottom above the fill height [m] (paper 0.10)",
+                cli::non_negative())
+      ->group(ch);
+  cli::add_real(app, "--settle-time", co.settle_time, "longest settling time [s] (paper 5)", cli::positive())->group(ch);
+  cli::add_real(app, "--settle-force", co.settle_force,
+                "stop settling once the mean net force per particle is below F weights m g [-] (paper 3e-7 = "
+                "1e-11 N; 0: settle the whole --settle-time)",
+                cli::non_negative())
+      ->group(ch);
+  cli::add_real(app, "--settle-speed", co.settle_speed, "... and no particle faster than V [m/s] (0: no condition)",
+                cli::non_negative())
+      ->group(ch);
+  cli::add_real(app, "--settle-damping", co.settle_damping,
+                "background damping of velocities and spins while settling [1/s] (0: none)", cli::non_negative())
+      ->group(ch);
+  cli::add_real(app, "--zero-interval", co.zero_interval, "velocities zeroed this often while settling [s] (0: never)",
+                cli::non_negative())
+      ->group(ch);
+  cli::add_whole<std::uint64_t>(app, "--seed", co.seed, "insertion seed", 0)->group(ch);
+  cli::add_real_list(app, "--vp", o.vps, "piston speeds v_p [m/s]", cli::positive())
+      ->default_str(list_text(o.vps))
+      ->group(ch);
+  app.add_flag_callback("--bender", [&co] { co.bender = true; },
+                        "S wave: the sheet follows z = A sin(2 pi f t) for one period, A = v_p/(2 pi f)")
+      ->group(ch);
+  cli::add_real(app, "--frequency", co.bender_frequency, "bender frequency [Hz]", cli::positive())->group(ch);
+  cli::add_real(app, "--run-time", co.run_time, "simulated time after the impulse [s] (0: 2.5 L / 7 m/s)",
+                cli::non_negative())
+      ->group(ch);
+  cli::add_real(app, "--dt-shock", co.dt_shock,
+                "shock time step [s] (0: min(engine limit, dt-max, tau_c(v_p)/20, period/20))", cli::non_negative())
+      ->group(ch);
+  cli::add_real(app, "--dt-prepare", co.dt_prepare,
+                "pour and settle time step [s] (0: min(engine limit, dt-max); paper 1e-6)", cli::non_negative())
+      ->group(ch);
+  cli::add_real(app, "--dt-max", co.dt_max, "cap on the automatic time steps [s] (0: none, the engine limit 3e-5)",
+                cli::non_negative())
+      ->group(ch);
+  cli::add_real(app, "--dt-pour", co.dt_pour, "pour time step [s] (0: the pour/settle step)", cli::non_negative())
+      ->group(ch);
+  cli::add_real(app, "--rolling-damping", co.rolling_damping,
+                "rolling viscous damping ratio eta_r of settling and shocks [-] (2: 001 table 2; 0: 001 section "
+                "2.1, 'neglected'); the pour uses 0 either way",
+                cli::closed(0.0, 10.0))
+      ->group(ch);
+  cli::add_real(app, "--sample", co.sample_interval, "sensor sampling interval [s]", cli::positive())->group(ch);
+  cli::add_real(app, "--pre-record", co.pre_record, "sensors record T before the impulse: initial level [s]",
+                cli::non_negative())
+      ->group(ch);
+  cli::add_real(app, "--sensor-time", co.sensor_time,
+                "keep force series for T after the impulse [s] (0: whole run; paper 0.25)", cli::non_negative())
+      ->group(ch);
+  add_window(app, "--cw-window", co.cw_from, co.cw_to, "fit window for c_w along y [m] (paper 0,0.15)")->group(ch);
+  add_window(app, "--cp-window", co.cp_from, co.cp_to, "fit window for c_p along y [m] (paper 0.3,0.5)")->group(ch);
+  cli::add_text(app, "--bed-dir", o.bed_dir, "cache of settled beds (default OUT/beds)")->type_name("DIR")->group(ch);
+  app.add_flag("--bed-only", o.bed_only, "prepare (or load) the bed, print it, run no shock")->group(ch);
+
+  const std::string st = "paper-scale study (001's grains, 2 cm x 20 cm cross-section, shock dt 1e-6 s; study.hpp)";
+  app.add_option_function<std::string>(
+         "--study",
+         [&o](const std::string& tag) {
+           try {
+             (void)study_cases(tag, kShortLength);
+           } catch (const InvalidParameter&) {
+             std::string all;
+             for (const auto& t : study_tags()) all += (all.empty() ? "" : ", ") + t;
+             throw CLI::ValidationError("--study = '" + tag + "' is not a study (" + all + ")");
+           }
+           o.study = tag;
+         },
+         "runs the tag's cases, one result file each in RESULTS/TAG/, skipping those done (same case in "
+         "another tag: copied)")
+      ->type_name("length|loose|medium|rolling|bender")
+      ->group(st);
+  app.add_flag("--list", o.list, "with --study: the cases, done or not, and their estimated wall time")->group(st);
+  cli::add_real(app, "--study-length", o.study_length,
+                "channel length of the study [m] (default: 0.5 if the length check passed, 1 if not)",
+                cli::positive(), false)
+      ->group(st);
+  app.add_flag("--measure-cost", o.measure_cost,
+               "time short segments (settle, shock) of lattice beds of 0.5 m and 1 m, write "
+               "RESULTS/cost/cost_measured.csv and cost_estimate.csv")
+      ->group(st);
+  cli::add_whole<std::uint64_t>(app, "--cost-steps", o.cost_steps, "steps per cost segment", 100)->group(st);
+  app.add_flag("--pour-check", o.pour_check,
+               "pour a 5 cm x 3 cm bed at dt 1e-5 s and 1e-6 s: RESULTS/cost/pour_check.csv")
+      ->group(st);
+}
+
+/// The options of every mode: output, threads, results, progress.
+void add_common_options(CLI::App& app, Options& o) {
+  const std::string g = "every mode";
+  cli::add_text(app, "--out", o.out, "output directory")->type_name("DIR")->default_str(o.out.string())->group(g);
+  cli::add_whole(app, "--threads", o.threads, "OpenMP threads", 1, 1024)->group(g);
+  cli::add_text(app, "--results", o.results,
+                "validation: where the CSV files go (default OUT); study: root of its result directories "
+                "(default OUT/results)")
+      ->type_name("DIR")
+      ->group(g);
+  app.add_flag_callback("--quiet", [&o] { o.co.progress = false; }, "no progress lines on stderr")->group(g);
+}
+
+/// The combinations the parser cannot check option by option (exit code 2).
+void check_options(const CLI::App& app, const CLI::App& validation, const Options& o) {
+  auto first_given = [&](const std::vector<std::string>& names) -> std::string {
+    for (const auto& n : names)
+      if (app.count(n) > 0) return n;
+    return "";
+  };
+  if (validation.parsed()) {
+    for (const auto* names : {&lunar_channel_options, &lunar_study_options})
+      if (const std::string n = first_given(*names); !n.empty())
+        throw cli::UsageError(n + ": a channel option, not used by validation");
+    if (o.load == GridLoad::Gravity && validation.count("--preload") > 0)
+      throw cli::UsageError("--preload: only with --load uniform");
+    if (o.load == GridLoad::Uniform && validation.count("--gravity") > 0)
+      throw cli::UsageError("--gravity: only with --load gravity");
+    return;
+  }
+  const bool study_mode = !o.study.empty() || o.measure_cost || o.pour_check;
+  if (study_mode) {
+    if (const std::string n = first_given(lunar_channel_options); !n.empty())
+      throw cli::UsageError(n + ": not used with --study, --measure-cost or --pour-check (study.hpp fixes the channel)");
+  } else if (app.count("--results") > 0) {
+    throw cli::UsageError("--results: only with validation, --study, --measure-cost or --pour-check");
+  }
+  if (o.study.empty())
+    for (const char* n : {"--list", "--study-length"})
+      if (app.count(n) > 0) throw cli::UsageError(std::string(n) + ": only with --study");
+  if (!o.measure_cost && app.count("--cost-steps") > 0) throw cli::UsageError("--cost-steps: only with --measure-cost");
+}
+
+int run_validation_mode(Options& o) {
+  ValidationOptions& vo = o.vo;
+  if (o.material == "steel" || o.material == "both") vo.materials.push_back(steel());
+  if (o.material == "soft" || o.material == "both") vo.materials.push_back(soft());
+  if (o.load == GridLoad::Gravity) {
+    for (double g : o.gravities) vo.cases.push_back({GridLoad::Gravity, g, 0.0, false});
+  } else {
+    vo.cases.push_back({GridLoad::Uniform, 0.0, o.preload.value_or(0.0), !o.preload.has_value()});
+  }
+  return run_validation(vo, o.results.empty() ? o.out : o.results);
+}
+
+int run_channel_mode(Options& o) {
+  const bool study_mode = !o.study.empty() || o.measure_cost || o.pour_check;
+  if (study_mode) {
+    const std::filesystem::path root = o.results.empty() ? o.out / "results" : o.results;
+    if (o.pour_check) run_pour_check(root, o.out, o.threads);
+    if (o.measure_cost) run_measure_cost(root, o.out, o.cost_steps, o.threads);
+    if (!o.study.empty()) return run_study(o.study, root, o.out, o.study_length, o.list, o.threads);
+    estimate_all(root, study_tags(), kShortLength, o.threads, true);
+    return 0;
+  }
+  o.co.bed_dir = o.bed_dir.empty() ? o.out / "beds" : o.bed_dir;
+  if (o.bed_only) o.vps.clear();
+  return run_channel(o.co, o.vps, o.out);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  // The sub-command is optional: without one the program runs the channel (quick mode, or the
-  // study with --study and friends).
-  std::string mode = "channel";
-  int first = 1;
-  if (argc >= 2 && argv[1][0] != '-') {
-    mode = argv[1];
-    first = 2;
-    if (mode != "validation" && mode != "channel") {
-      std::fprintf(stderr, "unknown sub-command '%s' (validation or channel; none = channel)\n", mode.c_str());
-      usage();
-      return 2;
-    }
-  }
-  std::filesystem::path out = "out/lunar_shock_channel";
-  int threads = 2;
-  // validation
-  std::string material = "both", load = "gravity";
-  std::filesystem::path results;
-  ValidationOptions vo;
-  vo.velocities = {1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 3e-2, 0.1, 0.3, 1, 3, 10};
-  vo.sweep_weights = {1e-2, 3.16e-2, 0.1, 0.316, 1, 3.16, 10, 31.6, 100};
-  std::vector<double> gravities = {kEarthGravity, kLunarGravity};
-  std::string preload_arg;
-  // channel
-  ChannelOptions co;
-  bool paper = false;
-  std::vector<double> vps = {0.1, 1.0, 10.0};
-  std::vector<std::pair<std::string, std::string>> channel_args;
-  std::string bed_dir;
-  // study
-  std::string study;
-  bool list = false, measure_cost = false, pour_check = false, bed_only = false;
-  double study_length = 0.0;
-  std::uint64_t cost_steps = 2000;
-  try {
-    for (int a = first; a < argc; ++a) {
-      const std::string arg = argv[a];
-      auto next = [&]() -> std::string {
-        if (a + 1 >= argc) throw InvalidParameter(arg + " needs a value");
-        return argv[++a];
-      };
-      if (arg == "--help" || arg == "-h") {
-        usage();
-        return 0;
-      } else if (arg == "--out") out = next();
-      else if (arg == "--threads") threads = std::stoi(next());
-      else if (arg == "--material") material = next();
-      else if (arg == "--velocities") vo.velocities = parse_list(next());
-      else if (arg == "--load") load = next();
-      else if (arg == "--gravity") {
-        gravities.clear();
-        for (double g : parse_list(next())) gravities.push_back(g);
-      } else if (arg == "--preload") preload_arg = next();
-      else if (arg == "--no-sweep") vo.sweep = false;
-      else if (arg == "--sweep") vo.sweep_weights = parse_list(next());
-      else if (arg == "--results") results = next();
-      else if (arg == "--restitution") vo.restitution = std::stod(next());
-      else if (arg == "--length" && mode == "validation") vo.length = std::stoi(next());
-      else if (arg == "--dt") vo.dt = std::stod(next());
-      else if (arg == "--plateau-max") vo.plateau_max = std::stod(next());
-      else if (arg == "--shock-min") vo.shock_min = std::stod(next());
-      else if (arg == "--paper") paper = true;
-      else if (arg == "--bender") co.bender = true;
-      else if (arg == "--quiet") co.progress = false;
-      else if (arg == "--vp") vps = parse_list(next());
-      else if (arg == "--bed-dir") bed_dir = next();
-      else if (arg == "--study") study = next();
-      else if (arg == "--list") list = true;
-      else if (arg == "--study-length") study_length = std::stod(next());
-      else if (arg == "--measure-cost") measure_cost = true;
-      else if (arg == "--cost-steps") cost_steps = std::stoull(next());
-      else if (arg == "--pour-check") pour_check = true;
-      else if (arg == "--bed-only") bed_only = true;
-      else if (arg == "--length" || arg == "--depth" || arg == "--width" || arg == "--packing" || arg == "--flux" ||
-               arg == "--pour-speed" || arg == "--drop" || arg == "--settle-time" || arg == "--seed" ||
-               arg == "--settle-force" || arg == "--settle-speed" || arg == "--settle-damping" || arg == "--zero-interval" ||
-               arg == "--dt-prepare" || arg == "--dt-max" || arg == "--dt-pour" || arg == "--rolling-damping" ||
-               arg == "--frequency" || arg == "--run-time" || arg == "--dt-shock" || arg == "--sample" ||
-               arg == "--cw-window" || arg == "--cp-window" || arg == "--pre-record" || arg == "--sensor-time")
-        channel_args.emplace_back(arg, next());
-      else {
-        std::fprintf(stderr, "unknown option '%s'\n", arg.c_str());
-        usage();
-        return 2;
-      }
-    }
+  Options o;
+  // --paper sets the channel's defaults wherever it stands; the options given override them.
+  for (int a = 1; a < argc; ++a)
+    if (std::string(argv[a]) == "--paper") o.co = ChannelOptions::paper();
+  CLI::App app("Lateral shock in a lunar-gravity granular channel (paper 001; README.md).\n"
+               "  lunar_shock_channel [channel] [options]     poured bed, P (or S) waves from a virtual piston;\n"
+               "                                              with --study, --measure-cost, --pour-check: the\n"
+               "                                              paper-scale study\n"
+               "  lunar_shock_channel validation [options]    5 x 5 grid: c_w(v_im), acoustic plateau, v^(1/5)\n"
+               "                                              (lunar_shock_channel validation --help)",
+               "lunar_shock_channel");
+  cli::configure(app);
+  app.footer("Exit codes: 0 done, 1 the run failed (the message names the cause), 2 bad arguments.");
+  app.require_subcommand(0, 1);
+  add_common_options(app, o);
+  add_channel_options(app, o);
+  CLI::App* channel = app.add_subcommand("channel", "the channel (the same as no sub-command)");
+  channel->fallthrough();
+  CLI::App* validation = app.add_subcommand("validation", "001 section 2.2's 5 x 5 grid: c_w(v_im), plateau, v^(1/5)");
+  validation->fallthrough();
+  validation->footer("001 section 2.2 = the set-up of its ref. [93]: a 5 x 5 grid standing on a floor, an\n"
+                     "incident particle dropped onto the top of the middle column. The options of every mode\n"
+                     "(--out, --threads, --results, --quiet; lunar_shock_channel --help) may be given too.\n"
+                     "Exit codes: 0 done, 1 the run failed (the message names the cause), 2 bad arguments.");
+  add_validation_options(*validation, o);
+  return cli::run(app, argc, argv, [&] {
+    check_options(app, *validation, o);
 #ifdef _OPENMP
-    omp_set_num_threads(threads);
+    omp_set_num_threads(o.threads);
 #endif
-    std::filesystem::create_directories(out);
-    const bool study_mode = !study.empty() || measure_cost || pour_check;
-    if (study_mode) {
-      if (mode == "validation") throw InvalidParameter("--study, --measure-cost and --pour-check belong to the channel");
-      if (!channel_args.empty() || paper)
-        throw InvalidParameter("the study fixes the channel options (study.hpp); '" +
-                               (paper ? std::string("--paper") : channel_args.front().first) + "' is not one of its options");
-      if (!(study_length >= 0.0)) throw InvalidParameter("--study-length must be > 0 m");
-      if (cost_steps < 100) throw InvalidParameter("--cost-steps must be >= 100");
-      const std::filesystem::path root = results.empty() ? out / "results" : results;
-      if (pour_check) run_pour_check(root, out, threads);
-      if (measure_cost) run_measure_cost(root, out, cost_steps, threads);
-      if (!study.empty()) return run_study(study, root, out, study_length, list, threads);
-      estimate_all(root, study_tags(), kShortLength, threads, true);
-      return 0;
-    }
-    if (list) throw InvalidParameter("--list needs --study TAG");
-    if (mode == "validation") {
-      if (material == "steel" || material == "both") vo.materials.push_back(steel());
-      if (material == "soft" || material == "both") vo.materials.push_back(soft());
-      if (vo.materials.empty()) throw InvalidParameter("--material must be steel, soft or both, not '" + material + "'");
-      if (load == "gravity") {
-        if (!preload_arg.empty()) throw InvalidParameter("--preload needs --load uniform");
-        for (double g : gravities) {
-          if (!(g > 0.0)) throw InvalidParameter("--gravity must be > 0 m/s^2, not " + std::to_string(g));
-          vo.cases.push_back({GridLoad::Gravity, g, 0.0, false});
-        }
-      } else if (load == "uniform") {
-        GridCase c{GridLoad::Uniform, 0.0, 0.0, preload_arg.empty() || preload_arg == "paper"};
-        if (!c.preload_paper) c.preload = std::stod(preload_arg);
-        if (!(c.preload >= 0.0)) throw InvalidParameter("--preload must be >= 0 N, not " + preload_arg);
-        vo.cases.push_back(c);
-      } else throw InvalidParameter("--load must be gravity or uniform, not '" + load + "'");
-      return run_validation(vo, results.empty() ? out : results);
-    }
-    if (paper) {
-      const bool bender = co.bender, progress = co.progress;
-      co = ChannelOptions::paper();
-      co.bender = bender;
-      co.progress = progress;
-    }
-    for (const auto& [k, v] : channel_args) {
-      if (k == "--length") co.length = std::stod(v);
-      else if (k == "--depth") co.depth = std::stod(v);
-      else if (k == "--width") co.width = std::stod(v);
-      else if (k == "--packing") {
-        if (v == "loose") co.packing = Packing::Loose;
-        else if (v == "medium") co.packing = Packing::Medium;
-        else if (v == "compact") co.packing = Packing::Compact;
-        else throw InvalidParameter("--packing must be loose, medium or compact, not '" + v + "'");
-      } else if (k == "--flux") co.insertion_flux = std::stod(v);
-      else if (k == "--pour-speed") co.pour_speed = std::stod(v);
-      else if (k == "--drop") co.drop_height = std::stod(v);
-      else if (k == "--settle-time") co.settle_time = std::stod(v);
-      else if (k == "--settle-force") co.settle_force = std::stod(v);
-      else if (k == "--settle-speed") co.settle_speed = std::stod(v);
-      else if (k == "--settle-damping") co.settle_damping = std::stod(v);
-      else if (k == "--zero-interval") co.zero_interval = std::stod(v);
-      else if (k == "--seed") co.seed = std::stoull(v);
-      else if (k == "--frequency") co.bender_frequency = std::stod(v);
-      else if (k == "--run-time") co.run_time = std::stod(v);
-      else if (k == "--dt-shock") co.dt_shock = std::stod(v);
-      else if (k == "--dt-prepare") co.dt_prepare = std::stod(v);
-      else if (k == "--dt-max") co.dt_max = std::stod(v);
-      else if (k == "--dt-pour") co.dt_pour = std::stod(v);
-      else if (k == "--rolling-damping") co.rolling_damping = std::stod(v);
-      else if (k == "--sample") co.sample_interval = std::stod(v);
-      else if (k == "--pre-record") co.pre_record = std::stod(v);
-      else if (k == "--sensor-time") co.sensor_time = std::stod(v);
-      else if (k == "--cw-window" || k == "--cp-window") {
-        const auto w = parse_list(v);
-        if (w.size() != 2) throw InvalidParameter(k + " needs two numbers A,B");
-        (k == "--cw-window" ? co.cw_from : co.cp_from) = w[0];
-        (k == "--cw-window" ? co.cw_to : co.cp_to) = w[1];
-      }
-    }
-    co.bed_dir = bed_dir.empty() ? out / "beds" : std::filesystem::path(bed_dir);
-    if (bed_only) vps.clear();
-    return run_channel(co, vps, out);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  }
+    std::filesystem::create_directories(o.out);
+    return validation->parsed() ? run_validation_mode(o) : run_channel_mode(o);
+  });
 }
