@@ -200,15 +200,16 @@ int run_validation(const ValidationOptions& vo, const std::filesystem::path& res
       }
       const auto [c0, spread] = plateau_of(plateau);
       PowerLaw pl{NAN, NAN, NAN};
-      if (vs.size() >= 2) pl = fit_power_law(vs, cs);
+      // The fit gives the exponent with its uncertainty, which needs three speeds.
+      if (vs.size() >= 3) pl = fit_power_law(vs, cs);
       std::printf("  plateau (v_im <= %g m/s): c_0 = %.5g m/s (spread %.2g %%), chain formula %.5g m/s, table 1 %.5g "
                   "m/s: measured / table 1 = %.3f\n",
                   vo.plateau_max, c0, 100 * spread, c_chain, gm.paper_c0, c0 / gm.paper_c0);
-      if (vs.size() >= 2)
+      if (vs.size() >= 3)
         std::printf("  shock branch (v_im >= %g m/s, %zu speeds): c_w ~ v_im^%.4f +- %.4f (expected 1/5)\n",
                     vo.shock_min, vs.size(), pl.exponent, pl.exponent_uncertainty);
       else
-        std::printf("  shock branch: %zu impact speed(s) at v_im >= %g m/s, an exponent needs two (--velocities, "
+        std::printf("  shock branch: %zu impact speed(s) at v_im >= %g m/s, an exponent needs three (--velocities, "
                     "--shock-min)\n", vs.size(), vo.shock_min);
       summary.row(gm.name, grid_load_name(o.load), o.gravity, o.preload, f_lo, f_hi, c_chain, c0, spread, gm.paper_c0,
                   c0 / gm.paper_c0, c_ref, pl.exponent, pl.exponent_uncertainty, vs.size());
