@@ -350,11 +350,7 @@ class Simulation {
   const std::vector<analysis::ContactRecord<D>>& recorded_contacts() const { return records_; }
 
   /// Current slot of the particle with stable id `id` (throws if absent).
-  std::size_t index_of(std::uint64_t id) const {
-    for (std::size_t i = 0; i < particles_.owned(); ++i)
-      if (particles_.id[i] == id) return i;
-    throw InvalidParameter("Simulation::index_of: id = " + std::to_string(id) + " is not a particle");
-  }
+  std::size_t index_of(std::uint64_t id) const;
 
   /// Sets the time-step; the stability check runs again before the next step. Time then counts
   /// on from the present: time() = t_change + (steps since the change) x dt.
@@ -380,33 +376,13 @@ class Simulation {
   bool records_contacts_every_step() const { return record_always_; }
 
   /// Translational + rotational kinetic energy of the real particles [J].
-  double kinetic_energy() const {
-    double e = 0.0;
-    for (std::size_t i = 0; i < particles_.owned(); ++i) {
-      const double m = particles_.mass[i];
-      const double inertia = D::inertia_factor * m * particles_.radius[i] * particles_.radius[i];
-      e += 0.5 * m * particles_.v[i].squaredNorm() + 0.5 * inertia * D::squared_norm(particles_.omega[i]);
-    }
-    return e;
-  }
+  double kinetic_energy() const;
 
   /// Gravitational potential energy -sum m g . x [J] (zero at the origin).
-  double gravitational_energy() const {
-    double e = 0.0;
-    for (std::size_t i = 0; i < particles_.owned(); ++i) e -= particles_.mass[i] * config_.gravity.dot(particles_.x[i]);
-    return e;
-  }
+  double gravitational_energy() const;
 
   /// Elastic energy stored in all contacts (normal, tangential and rolling springs) [J].
-  double elastic_energy() {
-    if (!initialised_ || !list_valid_) initialise();
-    double e = 0.0;
-    for_each_contact_geometry([&](const contact::ContactGeometry<D>& g, const Params& prm, const State& s,
-                                  std::size_t, std::uint32_t, std::uint32_t) {
-      e += Model::stored_energy(prm, g, s);
-    });
-    return e;
-  }
+  double elastic_energy();
 
   /// Critical time of the scene [s]: the smallest Rayleigh time (Hertz laws) or linear critical
   /// time (linear laws: the collision time, or pi/2 x the damped pair's stability limit where
@@ -459,36 +435,10 @@ class Simulation {
   /// A self-contained snapshot for analysis and output (contacts only if they were recorded at
   /// the current step: call request_contacts() before the step, record_contacts_every_step(),
   /// or register the observer with needs_contacts = true).
-  analysis::Frame<D> frame() const {
-    analysis::Frame<D> fr;
-    const std::size_t n = particles_.owned();
-    fr.time = time_;
-    fr.thickness = config_.thickness;
-    fr.x.assign(particles_.x.begin(), particles_.x.begin() + n);
-    fr.v.assign(particles_.v.begin(), particles_.v.begin() + n);
-    fr.omega.assign(particles_.omega.begin(), particles_.omega.begin() + n);
-    fr.radius.assign(particles_.radius.begin(), particles_.radius.begin() + n);
-    fr.mass.assign(particles_.mass.begin(), particles_.mass.begin() + n);
-    fr.id.assign(particles_.id.begin(), particles_.id.begin() + n);
-    fr.group.assign(particles_.group.begin(), particles_.group.begin() + n);
-    fr.force.assign(particles_.f.begin(), particles_.f.begin() + n);
-    fr.torque.assign(particles_.torque.begin(), particles_.torque.begin() + n);
-    if (records_step_ == step_) fr.contacts = records_;
-    fr.box_lo = config_.domain.lo;
-    fr.box_hi = config_.domain.hi;
-    fr.periodic = config_.domain.periodic;
-    return fr;
-  }
+  analysis::Frame<D> frame() const;
 
   /// Memory held by particles, list and history, and the pair loop's work arrays [bytes].
-  std::size_t memory_bytes() const {
-    const auto& p = particles_;
-    const std::size_t per = 5 * sizeof(Vec) + 2 * sizeof(AngVec) + 4 * sizeof(double) + 2 * 4 + 8 + 1 +
-                            sizeof(typename ParticleStore<D>::Image);
-    std::size_t work = v_damp_.capacity() * sizeof(Vec) + omega_damp_.capacity() * sizeof(AngVec);
-    for (const auto& w : pair_work_) work += (w.entries.capacity() + w.rows.capacity()) * sizeof(std::uint32_t);
-    return p.x.capacity() * per + list_.memory_bytes() + work;
-  }
+  std::size_t memory_bytes() const;
 
   /// Writes the dynamic state (particles, ghosts, neighbour list with history, bodies, time and
   /// its origin) to `w`. The scene's static set-up (materials, walls, group motions, observers)
@@ -925,3 +875,4 @@ class Simulation {
 #include "granule/simulation/wall_pass.hpp"
 #include "granule/simulation/pair_pass.hpp"
 #include "granule/simulation/setup.hpp"
+#include "granule/simulation/observables.hpp"
