@@ -470,6 +470,8 @@ class Simulation {
   void rebuild();
 
  private:
+  // Observers, and the work of one force evaluation: per-layer accumulators, the packed pass's
+  // per-thread arrays and its queue of wall contacts.
   struct Observer {
     std::uint64_t every;
     std::function<void(Simulation&)> f;
@@ -497,6 +499,19 @@ class Simulation {
     std::vector<std::uint32_t> entries, rows;
   };
 
+  // Wall contacts queued for the packed law (process_layer_packed): W at a time, one parameter
+  // set per pack.
+  struct WallQueue {
+    contact::GeometryLanes lanes;
+    State* state[lane_width];
+    State scratch[lane_width];  ///< histories of contacts without a slot (dropped after the law)
+    std::uint32_t i[lane_width], wall[lane_width];
+    Vec arm[lane_width];  ///< contact point - body origin
+    std::size_t count = 0;
+    std::size_t params = 0;
+  };
+
+  // ---- set-up (simulation/setup.hpp) ----
   // A particle wider than the domain along a bounded axis, or one that an active wall
   // overlaps by more than max_overlap_ratio x its radius (it pokes through the wall: the first
   // step would stop as unstable), is refused here, where the call that placed it is known.
@@ -528,6 +543,7 @@ class Simulation {
     }
   }
 
+  // ---- the step's upkeep: first list and forces, rebuilds, ghosts, stops (simulation/upkeep.hpp) ----
   double effective_skin() const;
 
   void initialise();
@@ -538,17 +554,6 @@ class Simulation {
   // and whatever they still write (e.g. the stiffness the Mindlin force form remembers) is
   // discarded: the history arrays are put back afterwards, so this holds for every law.
   void setup_forces();
-
-  // Every pair of materials that can touch (not two wall materials) against the laws' own
-  // requirements (ContactModel::validate), naming the pair.
-  void check_pair_parameters() const;
-
-  void check_time_step() const;
-
-  // dt against rolling_stability_limit(): a bad step stops the run with the particle that
-  // sets the limit (the excess shows as spin that the dashpots pump up to the mobilisation
-  // limit, not as a blow-up, so no later test would catch it).
-  void check_rolling_time_step() const;
 
   bool contacts_wanted(std::uint64_t step) const;
 
@@ -566,6 +571,19 @@ class Simulation {
 
   [[noreturn]] void throw_instability(std::size_t i, const std::string& why) const;
 
+  // ---- time-step and stability checks (simulation/time_step.hpp) ----
+  // Every pair of materials that can touch (not two wall materials) against the laws' own
+  // requirements (ContactModel::validate), naming the pair.
+  void check_pair_parameters() const;
+
+  void check_time_step() const;
+
+  // dt against rolling_stability_limit(): a bad step stops the run with the particle that
+  // sets the limit (the excess shows as spin that the dashpots pump up to the mobilisation
+  // limit, not as a blow-up, so no later test would catch it).
+  void check_rolling_time_step() const;
+
+  // ---- contact geometry (simulation/contact_geometry.hpp) ----
   // Builds the contact geometry of pair (i, j); returns false if not touching. A tensile
   // model's formed contact touches to a separation of `reach` (overlap > -reach).
   bool pair_geometry(std::size_t i, std::size_t j, contact::ContactGeometry<D>& g, double reach = 0.0) const;
@@ -590,6 +608,7 @@ class Simulation {
   template <class F>
   void for_each_contact_geometry(F&& f) const;
 
+  // ---- the force pass over pairs (simulation/pair_pass.hpp) ----
   /// `owned_reset`: the owned particles' forces and torques are already reset (step() does it
   /// in its first pass); `check_finite`: test the result here (step() does it in its last).
   void compute_forces(bool record, bool owned_reset = false, bool check_finite = true);
@@ -603,6 +622,46 @@ class Simulation {
   template <bool Record>
   GRANULE_FLATTEN void process_layer(std::size_t l);
 
+  // The doubles of a vector of small vectors, for the packed passes' raw-pointer inputs; null when
+  // there are no particles (a scene of walls and bodies alone), where data()->data() would be a
+  // member access through a null pointer.
+  template <class V>
+  static const double* scalars(const std::vector<V>& v);
+
+  // Asks the caches for the particle data that layer l's packs gather and scatter (velocities,
+  // angular velocities, inverse masses, forces and torques of layers l and l + 1): 104 B per
+  // particle, 1 000-6 000 cache lines a layer in the 100k beds, about 3 prefetch instructions
+  // per particle-step. When the bed outgrows the L3 cache (100k particles, ~50 MB) these lines
+  // come from memory, and the packs' own loads, spread over many arrays, left the hardware
+  // prefetchers behind: +3-5 % on the 100k beds, no change at 20k (docs/performance.md, "Beds
+  // larger than the cache"). Positions and radii are left to the touch scan, which reads them
+  // first and in order.
+  void prefetch_layer_pair(std::size_t l) const;
+
+  // process_layer<false> with the particle pairs evaluated W at a time (contact/packed.hpp);
+  // the wall contacts are found one at a time and their law runs W at a time. Pass 1 lists the
+  // layer's touching entries without a branch
+  // (which pair touches is unpredictable: a third do not) and moves history slots (a pair that
+  // starts touching takes one, one that separates gives it back); then the touching pairs go
+  // through chunks. A chunk holds pairs of one parameter set: a change of material pair flushes
+  // it; the packs read the particles' data from the store themselves (core/lane_transpose.hpp).
+  // (When the chunk still held copies of that data, copying every entry in pass 1, so that only
+  // the count depended on the touch, was 5-12 % slower: the copy was bound by its stores.)
+  GRANULE_FLATTEN void process_layer_packed(std::size_t l);
+
+  // Lists touching pairs k, k+1, ... of the layer (entries `touching`, their rows `rows`) in
+  // the chunk until it is full or the material pair changes; returns the first pair not listed.
+  // (A local count and plain stores: with chunk.count incremented in memory GCC reloaded it for
+  // every store.)
+  template <class Chunk>
+  std::size_t fill_chunk(Chunk& chunk, const std::uint32_t* touching, const std::uint32_t* rows,
+                         std::size_t k, std::size_t nt) const;
+
+  // Passes 2 and 3 of the packed pair loop (contact/packed.hpp) for one chunk; empties it.
+  template <class Chunk>
+  void evaluate_chunk(Chunk& chunk, LayerAccumulator& acc, std::size_t l);
+
+  // ---- the wall pass (simulation/wall_pass.hpp) ----
   // The walls of row i, one contact at a time: surface point, geometry, history slot, the
   // overlap check, and the history of features no longer touched. `use(g, state, params, wall, sp)`
   // evaluates each contact or queues it; state is null for a contact without a history slot (a
@@ -635,18 +694,6 @@ class Simulation {
   template <bool Record>
   void wall_contacts(std::size_t i, LayerAccumulator& acc, Vec& fi, AngVec& ti);
 
-  // Wall contacts queued for the packed law (process_layer_packed): W at a time, one parameter
-  // set per pack.
-  struct WallQueue {
-    contact::GeometryLanes lanes;
-    State* state[lane_width];
-    State scratch[lane_width];  ///< histories of contacts without a slot (dropped after the law)
-    std::uint32_t i[lane_width], wall[lane_width];
-    Vec arm[lane_width];  ///< contact point - body origin
-    std::size_t count = 0;
-    std::size_t params = 0;
-  };
-
   // The wall contacts of rows r0..r1 into the queue, in entry order: entry by entry through
   // the list's wall_row (most rows have no wall entries, and looking for those that do cost
   // about 1 % of scene B).
@@ -657,53 +704,15 @@ class Simulation {
   // loop it made scene A 5 % slower.)
   [[gnu::noinline]] GRANULE_FLATTEN void flush_wall_queue(WallQueue& q, LayerAccumulator& acc);
 
-  // The doubles of a vector of small vectors, for the packed passes' raw-pointer inputs; null when
-  // there are no particles (a scene of walls and bodies alone), where data()->data() would be a
-  // member access through a null pointer.
-  template <class V>
-  static const double* scalars(const std::vector<V>& v);
-
-  // Asks the caches for the particle data that layer l's packs gather and scatter (velocities,
-  // angular velocities, inverse masses, forces and torques of layers l and l + 1): 104 B per
-  // particle, 1 000-6 000 cache lines a layer in the 100k beds, about 3 prefetch instructions
-  // per particle-step. When the bed outgrows the L3 cache (100k particles, ~50 MB) these lines
-  // come from memory, and the packs' own loads, spread over many arrays, left the hardware
-  // prefetchers behind: +3-5 % on the 100k beds, no change at 20k (docs/performance.md, "Beds
-  // larger than the cache"). Positions and radii are left to the touch scan, which reads them
-  // first and in order.
-  void prefetch_layer_pair(std::size_t l) const;
-
-  // process_layer<false> with the particle pairs evaluated W at a time (contact/packed.hpp);
-  // the wall contacts are found one at a time and their law runs W at a time. Pass 1 lists the
-  // layer's touching entries without a branch
-  // (which pair touches is unpredictable: a third do not) and moves history slots (a pair that
-  // starts touching takes one, one that separates gives it back); then the touching pairs go
-  // through chunks. A chunk holds pairs of one parameter set: a change of material pair flushes
-  // it; the packs read the particles' data from the store themselves (core/lane_transpose.hpp).
-  // (When the chunk still held copies of that data, copying every entry in pass 1, so that only
-  // the count depended on the touch, was 5-12 % slower: the copy was bound by its stores.)
-  GRANULE_FLATTEN void process_layer_packed(std::size_t l);
-
   // The wall contacts of rows r0..r1 one at a time, in entry order (2D: a disk bed has few wall
   // contacts, and the packed wall law is written for 3D geometries, contact::GeometryLanes).
   void wall_contacts_by_entry(std::size_t r0, std::size_t r1, LayerAccumulator& acc);
-
-  // Lists touching pairs k, k+1, ... of the layer (entries `touching`, their rows `rows`) in
-  // the chunk until it is full or the material pair changes; returns the first pair not listed.
-  // (A local count and plain stores: with chunk.count incremented in memory GCC reloaded it for
-  // every store.)
-  template <class Chunk>
-  std::size_t fill_chunk(Chunk& chunk, const std::uint32_t* touching, const std::uint32_t* rows,
-                         std::size_t k, std::size_t nt) const;
-
-  // Passes 2 and 3 of the packed pair loop (contact/packed.hpp) for one chunk; empties it.
-  template <class Chunk>
-  void evaluate_chunk(Chunk& chunk, LayerAccumulator& acc, std::size_t l);
 
   // Touch marks for wall history entries (one bit per entry, owned by the entry's row).
   void touched_mark(std::uint32_t k) { wall_touched_[k] = 1; }
   bool touched_take(std::uint32_t k);
 
+  // ---- data (every part works on these members directly) ----
   SimulationConfig<D> config_;
   MaterialTable materials_;
   std::vector<bool> wall_material_;
