@@ -521,11 +521,7 @@ class Simulation {
 
   void initialise();
 
-  // The set-up evaluation: the forces of the initial state for the first half kick. No time has
-  // passed, so no contact history may change (LAMMPS does the same: no history update during
-  // set-up). The laws see dt = 0 -- no increment, no twist, the force of the history as it is --
-  // and whatever they still write (e.g. the stiffness the Mindlin force form remembers) is
-  // discarded: the history arrays are put back afterwards, so this holds for every law.
+  // The set-up evaluation: the forces of the initial state, changing no contact history.
   void setup_forces();
 
   bool contacts_wanted(std::uint64_t step) const;
@@ -586,46 +582,25 @@ class Simulation {
   /// in its first pass); `check_finite`: test the result here (step() does it in its last).
   void compute_forces(bool record, bool owned_reset = false, bool check_finite = true);
 
-  // The velocities the dashpots see (integrators::VelocityVerletPredictedDamping): the end-of-step
-  // velocity extrapolated with the force of the previous step, v + (a2 dt) F_old / m, which p.f
-  // still holds here (the reset comes after). Ghosts copy their owners. The set-up evaluation
-  // and non-free particles use v itself.
+  // The velocities the dashpots see (integrators::VelocityVerletPredictedDamping).
   void predict_damping_velocities();
 
   template <bool Record>
   GRANULE_FLATTEN void process_layer(std::size_t l);
 
-  // The doubles of a vector of small vectors, for the packed passes' raw-pointer inputs; null when
-  // there are no particles (a scene of walls and bodies alone), where data()->data() would be a
-  // member access through a null pointer.
+  // The doubles of a vector of small vectors (null when it is empty).
   template <class V>
   static const double* scalars(const std::vector<V>& v);
 
-  // Asks the caches for the particle data that layer l's packs gather and scatter (velocities,
-  // angular velocities, inverse masses, forces and torques of layers l and l + 1): 104 B per
-  // particle, 1 000-6 000 cache lines a layer in the 100k beds, about 3 prefetch instructions
-  // per particle-step. When the bed outgrows the L3 cache (100k particles, ~50 MB) these lines
-  // come from memory, and the packs' own loads, spread over many arrays, left the hardware
-  // prefetchers behind: +3-5 % on the 100k beds, no change at 20k (docs/performance.md, "Beds
-  // larger than the cache"). Positions and radii are left to the touch scan, which reads them
-  // first and in order.
+  // Prefetches the particle data that the packs of layers l and l + 1 gather and scatter.
   void prefetch_layer_pair(std::size_t l) const;
 
-  // process_layer<false> with the particle pairs evaluated W at a time (contact/packed.hpp);
-  // the wall contacts are found one at a time and their law runs W at a time. Pass 1 lists the
-  // layer's touching entries without a branch
-  // (which pair touches is unpredictable: a third do not) and moves history slots (a pair that
-  // starts touching takes one, one that separates gives it back); then the touching pairs go
-  // through chunks. A chunk holds pairs of one parameter set: a change of material pair flushes
-  // it; the packs read the particles' data from the store themselves (core/lane_transpose.hpp).
-  // (When the chunk still held copies of that data, copying every entry in pass 1, so that only
-  // the count depended on the touch, was 5-12 % slower: the copy was bound by its stores.)
+  // process_layer<false> with the particle pairs, and the wall contacts' law, evaluated W at a
+  // time (contact/packed.hpp).
   GRANULE_FLATTEN void process_layer_packed(std::size_t l);
 
-  // Lists touching pairs k, k+1, ... of the layer (entries `touching`, their rows `rows`) in
-  // the chunk until it is full or the material pair changes; returns the first pair not listed.
-  // (A local count and plain stores: with chunk.count incremented in memory GCC reloaded it for
-  // every store.)
+  // Lists touching pairs k, k+1, ... in the chunk until it is full or the material pair changes;
+  // returns the first pair not listed.
   template <class Chunk>
   std::size_t fill_chunk(Chunk& chunk, const std::uint32_t* touching, const std::uint32_t* rows,
                          std::size_t k, std::size_t nt) const;
@@ -634,11 +609,8 @@ class Simulation {
   template <class Chunk>
   void evaluate_chunk(Chunk& chunk, LayerAccumulator& acc, std::size_t l);
 
-  // ---- the wall pass (simulation/wall_pass.hpp) ----
-  // The walls of row i, one contact at a time: surface point, geometry, history slot, the
-  // overlap check, and the history of features no longer touched. `use(g, state, params, wall, sp)`
-  // evaluates each contact or queues it; state is null for a contact without a history slot (a
-  // feature the list has no entry for) and for models without history.
+  // The walls of row i, one contact at a time, each handed to `use(g, state, params, wall, sp)`
+  // to evaluate or queue.
   template <class Use>
   void for_each_wall_contact(std::size_t i, LayerAccumulator& acc, Use&& use);
 
@@ -651,10 +623,7 @@ class Simulation {
   template <class Use>
   void wall_group_contacts(std::size_t i, std::uint32_t e, LayerAccumulator& acc, Use& use);
 
-  // The contact of row i with plane wall entry e (a plane has one feature, so one entry per
-  // row and its slot is e): wall_group_contacts without the shape dispatch, the slot search
-  // and the touch marks, in the same arithmetic (Wall::for_each_contact's pose transforms
-  // and PlaneShape::closest), so results are bitwise the same.
+  // The contact of row i with plane wall entry e, bitwise as wall_group_contacts would give it.
   template <class Use>
   void plane_contact(std::size_t i, std::uint32_t e, const geometry::PlaneShape<D>& plane, const Wall<D>& w,
                      LayerAccumulator& acc, Use& use);
@@ -667,18 +636,13 @@ class Simulation {
   template <bool Record>
   void wall_contacts(std::size_t i, LayerAccumulator& acc, Vec& fi, AngVec& ti);
 
-  // The wall contacts of rows r0..r1 into the queue, in entry order: entry by entry through
-  // the list's wall_row (most rows have no wall entries, and looking for those that do cost
-  // about 1 % of scene B).
+  // The wall contacts of rows r0..r1 into the queue, in entry order.
   void queue_wall_contacts(std::size_t r0, std::size_t r1, LayerAccumulator& acc, WallQueue& q);
 
-  // The packed law for the queued wall contacts; forces and torques to the particles and bodies
-  // in queue order. (One out-of-line copy: inlined at its three calls into the flattened pair
-  // loop it made scene A 5 % slower.)
+  // The packed law for the queued wall contacts; out of line on purpose (see the definition).
   [[gnu::noinline]] GRANULE_FLATTEN void flush_wall_queue(WallQueue& q, LayerAccumulator& acc);
 
-  // The wall contacts of rows r0..r1 one at a time, in entry order (2D: a disk bed has few wall
-  // contacts, and the packed wall law is written for 3D geometries, contact::GeometryLanes).
+  // The wall contacts of rows r0..r1 one at a time, in entry order.
   void wall_contacts_by_entry(std::size_t r0, std::size_t r1, LayerAccumulator& acc);
 
   // Touch marks for wall history entries (one bit per entry, owned by the entry's row).

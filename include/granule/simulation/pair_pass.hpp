@@ -150,6 +150,10 @@ inline void Simulation<D, Model, Search, Integrator>::compute_forces(bool record
     throw_instability(bad, "its force, torque, position or velocity is not finite");
 }
 
+// The velocities the dashpots see (integrators::VelocityVerletPredictedDamping): the end-of-step
+// velocity extrapolated with the force of the previous step, v + (a2 dt) F_old / m, which p.f
+// still holds here (the reset comes after). Ghosts copy their owners. The set-up evaluation
+// and non-free particles use v itself.
 template <class D, class Model, class Search, class Integrator>
 inline void Simulation<D, Model, Search, Integrator>::predict_damping_velocities() {
   auto& p = particles_;
@@ -229,6 +233,14 @@ GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator>::process_la
   }
 }
 
+// Asks the caches for the particle data that layer l's packs gather and scatter (velocities,
+// angular velocities, inverse masses, forces and torques of layers l and l + 1): 104 B per
+// particle, 1 000-6 000 cache lines a layer in the 100k beds, about 3 prefetch instructions
+// per particle-step. When the bed outgrows the L3 cache (100k particles, ~50 MB) these lines
+// come from memory, and the packs' own loads, spread over many arrays, left the hardware
+// prefetchers behind: +3-5 % on the 100k beds, no change at 20k (docs/performance.md, "Beds
+// larger than the cache"). Positions and radii are left to the touch scan, which reads them
+// first and in order.
 template <class D, class Model, class Search, class Integrator>
 inline void Simulation<D, Model, Search, Integrator>::prefetch_layer_pair(std::size_t l) const {
   const auto& p = particles_;
@@ -248,6 +260,15 @@ inline void Simulation<D, Model, Search, Integrator>::prefetch_layer_pair(std::s
   lines(p.torque.data(), std::true_type{});
 }
 
+// process_layer<false> with the particle pairs evaluated W at a time (contact/packed.hpp);
+// the wall contacts are found one at a time and their law runs W at a time. Pass 1 lists the
+// layer's touching entries without a branch
+// (which pair touches is unpredictable: a third do not) and moves history slots (a pair that
+// starts touching takes one, one that separates gives it back); then the touching pairs go
+// through chunks. A chunk holds pairs of one parameter set: a change of material pair flushes
+// it; the packs read the particles' data from the store themselves (core/lane_transpose.hpp).
+// (When the chunk still held copies of that data, copying every entry in pass 1, so that only
+// the count depended on the touch, was 5-12 % slower: the copy was bound by its stores.)
 template <class D, class Model, class Search, class Integrator>
 GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator>::process_layer_packed(std::size_t l) {
   if constexpr (kPackable) {
@@ -295,6 +316,10 @@ GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator>::process_la
   }
 }
 
+// Lists touching pairs k, k+1, ... of the layer (entries `touching`, their rows `rows`) in
+// the chunk until it is full or the material pair changes; returns the first pair not listed.
+// (A local count and plain stores: with chunk.count incremented in memory GCC reloaded it for
+// every store.)
 template <class D, class Model, class Search, class Integrator>
 template <class Chunk>
 inline std::size_t Simulation<D, Model, Search, Integrator>::fill_chunk(Chunk& chunk, const std::uint32_t* touching, const std::uint32_t* rows, std::size_t k, std::size_t nt) const {
@@ -392,6 +417,9 @@ inline void Simulation<D, Model, Search, Integrator>::evaluate_chunk(Chunk& chun
   chunk.count = 0;
 }
 
+// The doubles of a vector of small vectors, for the packed passes' raw-pointer inputs; null when
+// there are no particles (a scene of walls and bodies alone), where data()->data() would be a
+// member access through a null pointer.
 template <class D, class Model, class Search, class Integrator>
 template <class V>
 inline const double* Simulation<D, Model, Search, Integrator>::scalars(const std::vector<V>& v) {

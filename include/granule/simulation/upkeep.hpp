@@ -65,6 +65,11 @@ inline void Simulation<D, Model, Search, Integrator>::initialise() {
   check_rolling_time_step();
 }
 
+// The set-up evaluation: the forces of the initial state for the first half kick. No time has
+// passed, so no contact history may change (LAMMPS does the same: no history update during
+// set-up). The laws see dt = 0 -- no increment, no twist, the force of the history as it is --
+// and whatever they still write (e.g. the stiffness the Mindlin force form remembers) is
+// discarded: the history arrays are put back afterwards, so this holds for every law.
 template <class D, class Model, class Search, class Integrator>
 inline void Simulation<D, Model, Search, Integrator>::setup_forces() {
   struct Restore {
