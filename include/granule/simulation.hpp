@@ -13,6 +13,18 @@
 // Determinism: every particle's force is summed in an order fixed by the list alone (its row,
 // then rows of earlier colours, in row order), so results are bitwise identical for any number
 // of threads. See docs/architecture.md.
+//
+// This header holds the class: its public API, step() (the outline above, in code) and the
+// declarations of its parts. The parts' definitions are in granule/simulation/, one file each,
+// included at the end (docs/architecture.md, "Simulation in parts"):
+//   setup.hpp             materials, particles, bodies, walls, groups, observers
+//   upkeep.hpp            the first list and forces, rebuilds, ghosts, the instability stops
+//   time_step.hpp         critical time, rolling stability limit, the dt checks
+//   contact_geometry.hpp  pair and wall contact geometry, tensile reach, the read-only walk
+//   pair_pass.hpp         compute_forces: colours, the scalar and packed layer loops
+//   wall_pass.hpp         particle-wall contacts, by entries, by planes, queued for packs
+//   observables.hpp       energies, frame, memory
+//   state_io.hpp          save_state, load_state_format
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -609,6 +621,7 @@ class Simulation {
   template <class Chunk>
   void evaluate_chunk(Chunk& chunk, LayerAccumulator& acc, std::size_t l);
 
+  // ---- the wall pass (simulation/wall_pass.hpp) ----
   // The walls of row i, one contact at a time, each handed to `use(g, state, params, wall, sp)`
   // to evaluate or queue.
   template <class Use>

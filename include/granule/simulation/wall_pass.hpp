@@ -7,7 +7,6 @@
 
 namespace granule {
 
-// ---- the wall pass (simulation/wall_pass.hpp) ----
 // The walls of row i, one contact at a time: surface point, geometry, history slot, the
 // overlap check, and the history of features no longer touched. `use(g, state, params, wall, sp)`
 // evaluates each contact or queues it; state is null for a contact without a history slot (a
