@@ -13,6 +13,18 @@
 // Determinism: every particle's force is summed in an order fixed by the list alone (its row,
 // then rows of earlier colours, in row order), so results are bitwise identical for any number
 // of threads. See docs/architecture.md.
+//
+// This header holds the class: its public API, step() (the outline above, in code) and the
+// declarations of its parts. The parts' definitions are in granule/simulation/, one file each,
+// included at the end (docs/architecture.md, "Simulation in parts"):
+//   setup.hpp             materials, particles, bodies, walls, groups, observers
+//   upkeep.hpp            the first list and forces, rebuilds, ghosts, the instability stops
+//   time_step.hpp         critical time, rolling stability limit, the dt checks
+//   contact_geometry.hpp  pair and wall contact geometry, tensile reach, the read-only walk
+//   pair_pass.hpp         compute_forces: colours, the scalar and packed layer loops
+//   wall_pass.hpp         particle-wall contacts, by entries, by planes, queued for packs
+//   observables.hpp       energies, frame, memory
+//   state_io.hpp          save_state, load_state_format
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -43,6 +55,7 @@
 #include "granule/neighbours/pair_list.hpp"
 #include "granule/neighbours/policies.hpp"
 #include "granule/particles/particle_store.hpp"
+#include "granule/simulation/config.hpp"
 
 // The pair loop is fully inlined in optimised builds: GCC otherwise keeps the tangential law
 // out of line and every ContactGeometry goes through memory (docs/performance.md, "The pair loop
@@ -55,34 +68,6 @@
 #endif
 
 namespace granule {
-
-template <class D>
-struct SimulationConfig {
-  using Vec = typename D::Vec;
-  Domain<D> domain;                 ///< simulation box (periodic flags per axis)
-  Vec gravity = Vec::Zero();        ///< [m/s^2]
-  double dt = 0.0;                  ///< time step [s]
-  double skin = -1.0;               ///< Verlet skin [m]; < 0: 0.1 x largest diameter (VerletList)
-  double thickness = 1.0;           ///< out-of-plane thickness of 2D disks [m]
-  /// The step may be at most this fraction of the critical time (Rayleigh time for Hertz
-  /// contacts, collision time for linear ones); see docs/physics.md, "time step".
-  double time_step_safety = 0.2;
-  bool allow_large_time_step = false;  ///< explicit override of the time-step check
-  /// Refuse a dt above rolling_stability_limit() (EPSD, SDS rolling dashpots) when the run
-  /// starts (before any contact: above rolling_limit_estimate()), when dt changes and every
-  /// stability_check_interval steps (allow_large_time_step also turns it off). The limit is conservative: 0.45-0.95 of the measured onset of instability
-  /// for one contact, 0.56-0.59 on a settled bed (docs/physics.md, "Time step").
-  bool check_rolling_stability = true;
-  /// Steps between those checks; 0 = only when the run starts or dt changes.
-  std::uint64_t stability_check_interval = 1000;
-  /// An overlap above this fraction of the smaller radius stops the run as unstable.
-  double max_overlap_ratio = 0.5;
-  /// Evaluate particle pairs W at a time in SIMD lanes where the model allows it (3D, every
-  /// slot written over D::Real, velocity Verlet-type dashpots; docs/architecture.md, "Packed
-  /// contacts"). The results agree with the one-at-a-time loop to rounding; false selects that
-  /// loop (tests compare the two).
-  bool packed_contacts = true;
-};
 
 template <class D, class Model, class Search = neighbours::VerletList,
           class Integrator = integrators::VelocityVerlet>
@@ -154,71 +139,20 @@ class Simulation {
   /// particle materials, or a particle and a wall material. Fields left empty keep their
   /// value (the mix, or an earlier set_pair); materials added later do not undo it. The
   /// contact parameters are precomputed per pair, so the pair loop does not change.
-  void set_pair(std::uint32_t a, std::uint32_t b, const PairOverride& o) {
-    const std::string where = "Simulation::set_pair";
-    const std::string range = "[0, " + std::to_string(materials_.size()) + ") (add_material first)";
-    require(a < materials_.size(), where, "a", a, range);
-    require(b < materials_.size(), where, "b", b, range);
-    require(!(wall_material_[a] && wall_material_[b]), where, "b", b,
-            "a particle material (a and b are both wall materials, which never touch)");
-    materials_.set_pair(a, b, o, where);
-    refresh_params();
-  }
+  void set_pair(std::uint32_t a, std::uint32_t b, const PairOverride& o);
 
   /// Adds a particle and returns its stable id. `omega`: initial angular velocity [rad/s]
   /// (2D: the scalar about z). Frozen and prescribed groups set v and omega themselves.
   std::uint64_t add_particle(const Vec& x, double radius, std::uint32_t material,
                              const Vec& v = Vec::Zero(), std::uint32_t group = 0,
-                             const AngVec& omega = D::zero_ang()) {
-    const std::string where = "Simulation::add_particle";
-    require(radius > 0.0 && std::isfinite(radius), where, "radius", radius, "(0, inf) m");
-    require(material < materials_.size(), where, "material", material,
-            "[0, " + std::to_string(materials_.size()) + ") (add_material first)");
-    require(!wall_material_[material], where, "material", material, "a particle material (this one is a wall material)");
-    for (int k = 0; k < D::dim; ++k) {
-      require(std::isfinite(x[k]), where, "x[" + std::to_string(k) + "]", x[k], "finite");
-      require(std::isfinite(v[k]), where, "v[" + std::to_string(k) + "]", v[k], "finite");
-      if (!config_.domain.periodic[k])
-        require(x[k] >= config_.domain.lo[k] && x[k] <= config_.domain.hi[k], where,
-                "x[" + std::to_string(k) + "]", x[k],
-                "[" + detail::to_text(config_.domain.lo[k]) + ", " + detail::to_text(config_.domain.hi[k]) +
-                    "] m (inside the non-periodic domain)");
-    }
-    for (int k = 0; k < D::rot_dim; ++k) {
-      const double w = component(omega, k);
-      require(std::isfinite(w), where, "omega[" + std::to_string(k) + "]", w, "finite");
-    }
-    check_insertion(x, radius, where);
-    list_.detach(particles_);  // the slots the rows name change here
-    particles_.clear_ghosts();
-    const double m = materials_[material].density * D::volume(radius, config_.thickness);
-    const std::uint64_t id = next_id_++;
-    const std::size_t slot = particles_.add(x, v, radius, m, material, group, id);
-    particles_.omega[slot] = omega;
-    apply_group_motion(slot);
-    list_valid_ = false;
-    return id;
-  }
+                             const AngVec& omega = D::zero_ang());
 
   /// Adds a body with prescribed kinematics; returns its index (0 is the fixed world).
-  std::uint32_t add_body(const Body<D>& b) {
-    bodies_.push_back(b);
-    bodies_.back().set_velocities(time_);
-    list_valid_ = false;
-    return static_cast<std::uint32_t>(bodies_.size() - 1);
-  }
+  std::uint32_t add_body(const Body<D>& b);
 
   /// Adds a wall of the given shape and (wall) material on a body; returns its index.
   template <class Shape>
-  std::uint32_t add_wall(const Shape& shape, std::uint32_t material, std::uint32_t body = 0) {
-    require(material < materials_.size(), "Simulation::add_wall", "material", material,
-            "[0, " + std::to_string(materials_.size()) + ")");
-    require(body < bodies_.size(), "Simulation::add_wall", "body", body,
-            "[0, " + std::to_string(bodies_.size()) + ")");
-    walls_.push_back(Wall<D>{typename WallShapes<D>::type(shape), material, body});
-    list_valid_ = false;
-    return static_cast<std::uint32_t>(walls_.size() - 1);
-  }
+  std::uint32_t add_wall(const Shape& shape, std::uint32_t material, std::uint32_t body = 0);
 
   /// Switches wall `w` on or off from the next step on (a gate that opens, a lid put on). The
   /// switch rebuilds the neighbour list, which lists active walls only: the wall pass has no
@@ -226,87 +160,31 @@ class Simulation {
   /// on again starts with fresh contacts. The forces of the step just done (with the wall) still
   /// give the next step's first half kick, as for any change between steps. Checkpoints keep the
   /// switch.
-  void set_wall_active(std::uint32_t w, bool active) {
-    require(w < walls_.size(), "Simulation::set_wall_active", "wall", w,
-            "[0, " + std::to_string(walls_.size()) + ")");
-    if (walls_[w].active == active) return;  // no rebuild: the run stays as it was
-    walls_[w].active = active;
-    list_valid_ = false;
-  }
+  void set_wall_active(std::uint32_t w, bool active);
 
   /// Particles of `group` never move (e.g. the rough frozen floor of paper 001).
-  void freeze_group(std::uint32_t group) {
-    list_valid_ = false;  // which pairs exist depends on the motion modes
-    group_mode_resize(group);
-    group_motion_[group] = Motion::Frozen;
-    group_velocity_[group] = nullptr;
-    for (std::size_t i = 0; i < particles_.owned(); ++i)
-      if (particles_.group[i] == group) apply_group_motion(i);
-  }
+  void freeze_group(std::uint32_t group);
 
   /// Particles of `group` move with velocity v(t) whatever the forces (virtual piston, shaker).
-  void prescribe_group_velocity(std::uint32_t group, std::function<Vec(double)> velocity) {
-    list_valid_ = false;  // which pairs exist depends on the motion modes
-    require(static_cast<bool>(velocity), "Simulation::prescribe_group_velocity", "velocity", 0.0,
-            "a callable of time");
-    group_mode_resize(group);
-    group_motion_[group] = Motion::Prescribed;
-    group_velocity_[group] = std::move(velocity);
-    for (std::size_t i = 0; i < particles_.owned(); ++i)
-      if (particles_.group[i] == group) apply_group_motion(i);
-  }
+  void prescribe_group_velocity(std::uint32_t group, std::function<Vec(double)> velocity);
 
   /// Particles of `group` move freely again.
-  void release_group(std::uint32_t group) {
-    list_valid_ = false;  // which pairs exist depends on the motion modes
-    group_mode_resize(group);
-    group_motion_[group] = Motion::Free;
-    group_velocity_[group] = nullptr;
-    for (std::size_t i = 0; i < particles_.owned(); ++i)
-      if (particles_.group[i] == group) apply_group_motion(i);
-  }
+  void release_group(std::uint32_t group);
 
   /// Moves particles to another group (and motion mode) by predicate on (slot).
   template <class Pred>
-  void assign_group(std::uint32_t group, Pred&& pred) {
-    group_mode_resize(group);
-    list_valid_ = false;
-    for (std::size_t i = 0; i < particles_.owned(); ++i)
-      if (pred(i)) {
-        particles_.group[i] = group;
-        apply_group_motion(i);
-      }
-  }
+  void assign_group(std::uint32_t group, Pred&& pred);
 
   /// Removes the particles for which pred(slot) is true (e.g. above a fill height). The contact
   /// records of the current step name slots that no longer hold the same particles, so they are
   /// dropped: frame() then has no contacts until the next recorded step.
   template <class Pred>
-  std::size_t remove_particles(Pred&& pred) {
-    list_.detach(particles_);  // the slots the rows name change here
-    particles_.clear_ghosts();
-    std::vector<bool> keep(particles_.owned());
-    std::size_t removed = 0;
-    for (std::size_t i = 0; i < particles_.owned(); ++i) {
-      keep[i] = !pred(i);
-      removed += !keep[i];
-    }
-    particles_.remove_if_not(keep);
-    list_valid_ = false;
-    if (removed > 0) {
-      records_.clear();
-      records_step_ = std::numeric_limits<std::uint64_t>::max();
-    }
-    return removed;
-  }
+  std::size_t remove_particles(Pred&& pred);
 
   /// Registers f(sim) to run after every step whose count is a multiple of n (not before the
   /// first step: call f yourself for the initial state). With `needs_contacts` the contacts of
   /// those steps are recorded for frame().
-  void every(std::uint64_t n, std::function<void(Simulation&)> f, bool needs_contacts = false) {
-    require(n > 0, "Simulation::every", "n", static_cast<double>(n), "[1, inf)");
-    observers_.push_back({n, std::move(f), needs_contacts});
-  }
+  void every(std::uint64_t n, std::function<void(Simulation&)> f, bool needs_contacts = false);
 
   // ---- running -------------------------------------------------------------------------------
 
@@ -457,11 +335,7 @@ class Simulation {
   const std::vector<analysis::ContactRecord<D>>& recorded_contacts() const { return records_; }
 
   /// Current slot of the particle with stable id `id` (throws if absent).
-  std::size_t index_of(std::uint64_t id) const {
-    for (std::size_t i = 0; i < particles_.owned(); ++i)
-      if (particles_.id[i] == id) return i;
-    throw InvalidParameter("Simulation::index_of: id = " + std::to_string(id) + " is not a particle");
-  }
+  std::size_t index_of(std::uint64_t id) const;
 
   /// Sets the time-step; the stability check runs again before the next step. Time then counts
   /// on from the present: time() = t_change + (steps since the change) x dt.
@@ -487,62 +361,22 @@ class Simulation {
   bool records_contacts_every_step() const { return record_always_; }
 
   /// Translational + rotational kinetic energy of the real particles [J].
-  double kinetic_energy() const {
-    double e = 0.0;
-    for (std::size_t i = 0; i < particles_.owned(); ++i) {
-      const double m = particles_.mass[i];
-      const double inertia = D::inertia_factor * m * particles_.radius[i] * particles_.radius[i];
-      e += 0.5 * m * particles_.v[i].squaredNorm() + 0.5 * inertia * D::squared_norm(particles_.omega[i]);
-    }
-    return e;
-  }
+  double kinetic_energy() const;
 
   /// Gravitational potential energy -sum m g . x [J] (zero at the origin).
-  double gravitational_energy() const {
-    double e = 0.0;
-    for (std::size_t i = 0; i < particles_.owned(); ++i) e -= particles_.mass[i] * config_.gravity.dot(particles_.x[i]);
-    return e;
-  }
+  double gravitational_energy() const;
 
   /// Elastic energy stored in all contacts (normal, tangential and rolling springs) [J].
-  double elastic_energy() {
-    if (!initialised_ || !list_valid_) initialise();
-    double e = 0.0;
-    for_each_contact_geometry([&](const contact::ContactGeometry<D>& g, const Params& prm, const State& s,
-                                  std::size_t, std::uint32_t, std::uint32_t) {
-      e += Model::stored_energy(prm, g, s);
-    });
-    return e;
-  }
+  double elastic_energy();
 
   /// Critical time of the scene [s]: the smallest Rayleigh time (Hertz laws) or linear critical
   /// time (linear laws: the collision time, or pi/2 x the damped pair's stability limit where
   /// that is smaller; linear_critical_time) over the particles present.
-  double critical_time_step() const {
-    double tc = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < particles_.owned(); ++i) {
-      const Material& m = materials_[particles_.material[i]];
-      const double r = particles_.radius[i];
-      if constexpr (Model::NormalLaw::hertzian) {
-        tc = std::min(tc, rayleigh_time(r, m.density, m.shear_modulus(), m.poisson_ratio));
-      } else {
-        for (std::uint32_t b = 0; b < materials_.size(); ++b) {
-          const PairMaterial& pm = materials_.pair(particles_.material[i], b);
-          if (pm.k_n_linear <= 0.0) continue;
-          // Two equal particles: m* = m/2; a wall: m* = m (a rigid one has 2 k: the same period).
-          const double m_eff = (wall_material_[b] ? 1.0 : 0.5) * particles_.mass[i];
-          tc = std::min(tc, linear_critical_time(pm.k_n_linear, m_eff, pm.restitution, kPredictDamping ? 2.0 : 1.0));
-        }
-      }
-    }
-    return tc;
-  }
+  double critical_time_step() const;
 
   /// Largest time step the checks accept [s]: time_step_safety x critical_time_step(), and,
   /// once forces have been evaluated, no more than rolling_stability_limit().
-  double suggested_time_step() const {
-    return std::min(config_.time_step_safety * critical_time_step(), rolling_stability_limit().limit);
-  }
+  double suggested_time_step() const;
 
   /// Where the rotational spring-dashpots of the current contacts (EPSD rolling) limit dt.
   struct RollingLimit {
@@ -563,52 +397,7 @@ class Simulation {
   /// damped_oscillator_stability_limit(w_i, zeta_i): dt^2 w^2 / 4 + dt zeta w <= 1, sufficient
   /// for K and C that are not proportional. docs/physics.md, "Time step", gives how far it is
   /// below the measured onsets of instability (one contact, a settled bed).
-  RollingLimit rolling_stability_limit() const {
-    RollingLimit out;
-    if constexpr (kRollingDashpot) {
-      if (!list_valid_ || !forces_ready_) return out;
-      const auto& p = particles_;
-      const std::size_t n = p.owned();
-      // Per free particle: the row sums of K and C, and the number of contacts.
-      std::vector<double> k_sum(n, 0.0), c_sum(n, 0.0);
-      std::vector<std::uint32_t> count(n, 0);
-      const auto free_or_zero = [&](std::size_t i, double value) {
-        return p.motion[i] == Motion::Free ? value : 0.0;
-      };
-      for_each_contact_geometry([&](const contact::ContactGeometry<D>& g, const Params& prm, const State&,
-                                    std::size_t i, std::uint32_t j, std::uint32_t is_wall) {
-        const contact::NormalResult nr = Model::NormalLaw::eval(prm.normal, g);
-        const contact::SpringDashpot roll = Model::RollingLaw::spring_dashpot(prm.rolling, g, nr);
-        contact::SpringDashpot slip;
-        if constexpr (kTangentialDashpot) slip = Model::TangentialLaw::spring_dashpot(prm.tangential, g, nr);
-        const std::size_t o = is_wall != 0u ? i : (j < n ? j : p.ghost_owner[j - n]);
-        const double ai = free_or_zero(i, p.inv_inertia[i]), bi = free_or_zero(i, p.inv_mass[i]);
-        const double aj = is_wall != 0u ? 0.0 : free_or_zero(o, p.inv_inertia[o]);
-        const double bj = is_wall != 0u ? 0.0 : free_or_zero(o, p.inv_mass[o]);
-        const double lj = is_wall != 0u ? 0.0 : static_cast<double>(g.arm_j);
-        const double li = g.arm_i, cross = std::sqrt(ai * aj);
-        // Row of particle `self` (inverse inertia a, mass b, arm l) against the other's (a2, b2, l2).
-        const auto add = [&](std::size_t self, double a, double b, double l, double b2, double l2) {
-          const double r = a + cross, t = l * (l * a + l2 * cross + std::sqrt(a * b) + std::sqrt(a * b2));
-          k_sum[self] += roll.stiffness * r + slip.stiffness * t;
-          c_sum[self] += roll.damping * r + slip.damping * t;
-          ++count[self];
-        };
-        add(i, ai, bi, li, bj, lj);
-        if (is_wall == 0u) add(o, aj, bj, lj, bi, li);
-      });
-      // The predicted-damping integrator hands the dashpots v + dt/2 F_old/m, which doubles
-      // their effective rate per step: a pure dashpot is stable for c dt <= 1 instead of 2.
-      constexpr double rate_factor = kPredictDamping ? 2.0 : 1.0;
-      for (std::size_t i = 0; i < n; ++i) {
-        if (!(k_sum[i] > 0.0)) continue;
-        const double w = std::sqrt(k_sum[i]);
-        const double t = damped_oscillator_stability_limit(w, rate_factor * c_sum[i] / (2.0 * w));
-        if (t < out.limit) out = {t, i, count[i]};
-      }
-    }
-    return out;
-  }
+  RollingLimit rolling_stability_limit() const;
 
   /// The rotational limit before any contact exists (check_rolling_time_step at the first step
   /// when rolling_stability_limit() has no contacts yet), for models with a rolling
@@ -626,134 +415,22 @@ class Simulation {
     double overlap = 0.0;                     ///< the reference overlap [m]
     double rolling_damping = 0.0;             ///< that pair's eta_r [-]
   };
-  RollingEstimate rolling_limit_estimate() const {
-    RollingEstimate out;
-    if constexpr (kRollingDashpot) {
-      const auto& p = particles_;
-      const double grav = config_.gravity.norm();
-      if (!(grav > 0.0)) return out;
-      const std::uint32_t nm = static_cast<std::uint32_t>(materials_.size());
-      constexpr std::size_t none = std::numeric_limits<std::size_t>::max();
-      std::vector<std::size_t> smallest(nm, none);
-      for (std::size_t i = 0; i < p.owned(); ++i) {
-        if (p.motion[i] != Motion::Free) continue;
-        std::size_t& s = smallest[p.material[i]];
-        if (s == none || p.radius[i] < p.radius[s]) s = i;
-      }
-      const double k1 = D::inertia_factor + 1.0;
-      constexpr double rate_factor = kPredictDamping ? 2.0 : 1.0;
-      for (std::uint32_t a = 0; a < nm; ++a) {
-        if (smallest[a] == none) continue;
-        const std::size_t i = smallest[a];
-        for (std::uint32_t b = 0; b < nm; ++b) {
-          const bool wall = wall_material_[b];
-          if (!wall && smallest[b] == none) continue;
-          const std::size_t j = wall ? i : smallest[b];
-          contact::ContactGeometry<D> g{};
-          g.n = D::zero();
-          g.n[D::dim - 1] = 1.0;
-          g.r_i = p.radius[i];
-          g.r_j = wall ? std::numeric_limits<double>::infinity() : p.radius[j];
-          g.r_eff = wall ? g.r_i : g.r_i * g.r_j / (g.r_i + g.r_j);
-          g.m_eff = wall ? p.mass[i] : 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
-          g.i_roll = wall ? k1 * p.mass[i] * g.r_i * g.r_i
-                          : 1.0 / (p.inv_mass[i] / (k1 * g.r_i * g.r_i) + p.inv_mass[j] / (k1 * g.r_j * g.r_j));
-          g.vn = g.vn_damp = 0.0;
-          g.dt = config_.dt;
-          const Params& prm = params_[a * nm + b];
-          // The overlap that carries the weight (the elastic force rises with it): bisection.
-          double lo = 0.0, hi = g.r_i;
-          for (int it = 0; it < 100; ++it) {
-            g.overlap = 0.5 * (lo + hi);
-            (Model::NormalLaw::eval(prm.normal, g).fn_elastic < p.mass[i] * grav ? lo : hi) = g.overlap;
-          }
-          g.overlap = hi;
-          const contact::NormalResult nr = Model::NormalLaw::eval(prm.normal, g);
-          const contact::SpringDashpot roll = Model::RollingLaw::spring_dashpot(prm.rolling, g, nr);
-          const double ai = p.inv_inertia[i], aj = wall ? 0.0 : p.inv_inertia[j], row = ai + std::sqrt(ai * aj);
-          if (!(roll.stiffness * row > 0.0)) continue;
-          const double w = std::sqrt(roll.stiffness * row);
-          const double t = damped_oscillator_stability_limit(w, rate_factor * roll.damping * row / (2.0 * w));
-          if (t < out.limit) out = {t, a, b, g.overlap, materials_.pair(a, b).rolling_damping};
-        }
-      }
-    }
-    return out;
-  }
+  RollingEstimate rolling_limit_estimate() const;
 
   /// A self-contained snapshot for analysis and output (contacts only if they were recorded at
   /// the current step: call request_contacts() before the step, record_contacts_every_step(),
   /// or register the observer with needs_contacts = true).
-  analysis::Frame<D> frame() const {
-    analysis::Frame<D> fr;
-    const std::size_t n = particles_.owned();
-    fr.time = time_;
-    fr.thickness = config_.thickness;
-    fr.x.assign(particles_.x.begin(), particles_.x.begin() + n);
-    fr.v.assign(particles_.v.begin(), particles_.v.begin() + n);
-    fr.omega.assign(particles_.omega.begin(), particles_.omega.begin() + n);
-    fr.radius.assign(particles_.radius.begin(), particles_.radius.begin() + n);
-    fr.mass.assign(particles_.mass.begin(), particles_.mass.begin() + n);
-    fr.id.assign(particles_.id.begin(), particles_.id.begin() + n);
-    fr.group.assign(particles_.group.begin(), particles_.group.begin() + n);
-    fr.force.assign(particles_.f.begin(), particles_.f.begin() + n);
-    fr.torque.assign(particles_.torque.begin(), particles_.torque.begin() + n);
-    if (records_step_ == step_) fr.contacts = records_;
-    fr.box_lo = config_.domain.lo;
-    fr.box_hi = config_.domain.hi;
-    fr.periodic = config_.domain.periodic;
-    return fr;
-  }
+  analysis::Frame<D> frame() const;
 
   /// Memory held by particles, list and history, and the pair loop's work arrays [bytes].
-  std::size_t memory_bytes() const {
-    const auto& p = particles_;
-    const std::size_t per = 5 * sizeof(Vec) + 2 * sizeof(AngVec) + 4 * sizeof(double) + 2 * 4 + 8 + 1 +
-                            sizeof(typename ParticleStore<D>::Image);
-    std::size_t work = v_damp_.capacity() * sizeof(Vec) + omega_damp_.capacity() * sizeof(AngVec);
-    for (const auto& w : pair_work_) work += (w.entries.capacity() + w.rows.capacity()) * sizeof(std::uint32_t);
-    return p.x.capacity() * per + list_.memory_bytes() + work;
-  }
+  std::size_t memory_bytes() const;
 
   /// Writes the dynamic state (particles, ghosts, neighbour list with history, bodies, time and
   /// its origin) to `w`. The scene's static set-up (materials, walls, group motions, observers)
   /// is not part of it: the restarting program builds the same scene and then loads the state
   /// (io/checkpoint.hpp, which also records the materials to compare them).
   template <class W>
-  void save_state(W& w) {
-    if (!initialised_ || !list_valid_) initialise();
-    const auto& p = particles_;
-    w.template pod<double>(time_);
-    w.template pod<std::uint64_t>(step_);
-    w.template pod<std::uint64_t>(next_id_);
-    w.template pod<double>(config_.dt);
-    w.template pod<double>(skin_used_);
-    w.template pod<std::uint64_t>(p.owned());
-    w.vec(p.x); w.vec(p.v); w.vec(p.f); w.vec(p.omega); w.vec(p.torque); w.vec(p.radius);
-    w.vec(p.mass); w.vec(p.inv_mass); w.vec(p.inv_inertia); w.vec(p.material); w.vec(p.group);
-    w.vec(p.id); w.vec(p.motion); w.vec(p.image); w.vec(p.ghost_owner); w.vec(p.ghost_shift);
-    list_.save(w);
-    w.template pod<std::uint64_t>(bodies_.size());
-    for (const auto& b : bodies_) {
-      w.template pod<typename D::Mat>(b.pose.rotation());
-      w.template pod<Vec>(b.pose.translation());
-      w.template pod<Vec>(b.force);
-      w.template pod<AngVec>(b.torque);
-      w.template pod<double>(b.work);
-      w.template pod<Vec>(b.displacement_since_build);
-      w.template pod<double>(b.rotation_since_build);
-    }
-    w.template pod<std::uint64_t>(materials_.size());
-    w.template pod<std::uint64_t>(walls_.size());
-    for (const auto& wl : walls_) {
-      w.template pod<std::uint8_t>(wl.active ? 1 : 0);
-      w.template pod<Vec>(wl.force);
-      w.template pod<AngVec>(wl.torque);
-    }
-    w.vec(group_motion_);
-    w.template pod<double>(time_origin_);
-    w.template pod<std::uint64_t>(step_origin_);
-  }
+  void save_state(W& w);
 
   /// The layout save_state writes: checkpoint format 5 (io/checkpoint.hpp). 4 lacks the time
   /// origin (time and step at the last change of dt), 3 also the wall states.
@@ -763,9 +440,7 @@ class Simulation {
   /// `wall_states` the state is read as checkpoint format 3 wrote it (before walls could be
   /// switched off): every wall is active and the wall readouts are zero until the next step.
   template <class R>
-  void load_state(R& r, bool wall_states = true) {
-    load_state_format(r, wall_states ? kStateFormat : 3);
-  }
+  void load_state(R& r, bool wall_states = true);
 
   /// Restores a state in the layout of checkpoint format `format` (3, 4 or kStateFormat). All of
   /// it is read and checked first -- the scene's dt, body, wall and material counts and group
@@ -774,206 +449,14 @@ class Simulation {
   /// simulation is as it was. With `whole`, data after the state (r.position() < r.size()) is an
   /// error too. Formats 3 and 4 start the time origin at the state's time and step.
   template <class R>
-  void load_state_format(R& r, std::uint32_t format, bool whole = false) {
-    require(format >= 3 && format <= kStateFormat, "Simulation::load_state_format", "format", format,
-            "[3, " + std::to_string(kStateFormat) + "]");
-    const double time = r.template pod<double>();
-    const auto step = r.template pod<std::uint64_t>();
-    const auto next_id = r.template pod<std::uint64_t>();
-    const double dt = r.template pod<double>();
-    if (dt != config_.dt)
-      r.fail("time step " + detail::to_text(dt) + " s differs from the scene's " + detail::to_text(config_.dt) + " s");
-    const double skin = r.template pod<double>();
-    const auto owned = r.template pod<std::uint64_t>();
-    ParticleStore<D> p;
-    r.vec(p.x); r.vec(p.v); r.vec(p.f); r.vec(p.omega); r.vec(p.torque); r.vec(p.radius);
-    r.vec(p.mass); r.vec(p.inv_mass); r.vec(p.inv_inertia); r.vec(p.material); r.vec(p.group);
-    r.vec(p.id); r.vec(p.motion); r.vec(p.image); r.vec(p.ghost_owner); r.vec(p.ghost_shift);
-    List list;
-    list.read_saved(r);
-    const auto nb = r.template pod<std::uint64_t>();
-    if (nb != bodies_.size())
-      r.fail("it has " + std::to_string(nb) + " bodies, the scene " + std::to_string(bodies_.size()));
-    struct BodyState {
-      typename D::Mat rotation;
-      Vec translation, force;
-      AngVec torque;
-      double work;
-      Vec displacement;
-      double rotation_since_build;
-    };
-    std::vector<BodyState> bs(bodies_.size());
-    for (auto& b : bs) {
-      b.rotation = r.template pod<typename D::Mat>();
-      b.translation = r.template pod<Vec>();
-      b.force = r.template pod<Vec>();
-      b.torque = r.template pod<AngVec>();
-      b.work = r.template pod<double>();
-      b.displacement = r.template pod<Vec>();
-      b.rotation_since_build = r.template pod<double>();
-    }
-    const auto nm = r.template pod<std::uint64_t>();
-    const auto nw = r.template pod<std::uint64_t>();
-    if (nm != materials_.size() || nw != walls_.size())
-      r.fail("it has " + std::to_string(nm) + " materials and " + std::to_string(nw) +
-             " walls, the scene " + std::to_string(materials_.size()) + " and " + std::to_string(walls_.size()));
-    struct WallState {
-      bool active = true;
-      Vec force = Vec::Zero();
-      AngVec torque = D::zero_ang();
-    };
-    std::vector<WallState> ws(walls_.size());
-    if (format >= 4)
-      for (auto& wl : ws) {
-        wl.active = r.template pod<std::uint8_t>() != 0;
-        wl.force = r.template pod<Vec>();
-        wl.torque = r.template pod<AngVec>();
-      }
-    std::vector<Motion> modes;
-    r.vec(modes);
-    double time_origin = time;
-    std::uint64_t step_origin = step;
-    if (format >= 5) {
-      time_origin = r.template pod<double>();
-      step_origin = r.template pod<std::uint64_t>();
-    }
-    if constexpr (requires { r.size(); })
-      if (whole && r.position() != r.size()) r.fail("unexpected trailing data");
-
-    // ---- checks (nothing of this simulation has changed yet) ----
-    const auto bad = [&](const std::string& why) { r.fail(why); };
-    if (!std::isfinite(time) || !std::isfinite(time_origin) || step_origin > step)
-      bad("its time " + detail::to_text(time) + " s (origin " + detail::to_text(time_origin) + " s at step " +
-          std::to_string(step_origin) + " of " + std::to_string(step) + ") is not a finite time");
-    if (!(std::isfinite(skin) && skin >= 0.0))
-      bad("its neighbour skin " + detail::to_text(skin) + " m is not in [0, inf)");
-    const std::size_t slots = p.x.size();
-    if (owned > slots)
-      bad("it declares " + std::to_string(owned) + " particles but holds arrays of " + std::to_string(slots));
-    const auto same = [&](std::size_t got, const char* what, std::size_t want) {
-      if (got != want)
-        bad(std::string("its array '") + what + "' has " + std::to_string(got) + " values, not " +
-            std::to_string(want));
-    };
-    same(p.v.size(), "v", slots); same(p.f.size(), "f", slots); same(p.omega.size(), "omega", slots);
-    same(p.torque.size(), "torque", slots); same(p.radius.size(), "radius", slots);
-    same(p.mass.size(), "mass", slots); same(p.inv_mass.size(), "inv_mass", slots);
-    same(p.inv_inertia.size(), "inv_inertia", slots); same(p.material.size(), "material", slots);
-    same(p.group.size(), "group", slots); same(p.id.size(), "id", slots); same(p.motion.size(), "motion", slots);
-    same(p.image.size(), "image", slots); same(p.ghost_owner.size(), "ghost_owner", slots - owned);
-    same(p.ghost_shift.size(), "ghost_shift", slots - owned);
-    p.set_owned(static_cast<std::size_t>(owned));
-    const std::size_t groups = std::max(group_motion_.size(), modes.size());
-    for (std::size_t i = 0; i < slots; ++i) {
-      const auto at = [&](const std::string& what, double value) {
-        bad("particle slot " + std::to_string(i) + " (id " + std::to_string(p.id[i]) + "): " + what + " " +
-            detail::to_text(value));
-      };
-      for (int k = 0; k < D::dim; ++k) {
-        if (!std::isfinite(p.x[i][k])) at("x[" + std::to_string(k) + "] =", p.x[i][k]);
-        if (!std::isfinite(p.v[i][k])) at("v[" + std::to_string(k) + "] =", p.v[i][k]);
-        if (!std::isfinite(p.f[i][k])) at("f[" + std::to_string(k) + "] =", p.f[i][k]);
-      }
-      for (int k = 0; k < D::rot_dim; ++k) {
-        const double w = component(p.omega[i], k), t = component(p.torque[i], k);
-        if (!std::isfinite(w)) at("omega[" + std::to_string(k) + "] =", w);
-        if (!std::isfinite(t)) at("torque[" + std::to_string(k) + "] =", t);
-      }
-      if (!(p.radius[i] > 0.0 && std::isfinite(p.radius[i]))) at("radius =", p.radius[i]);
-      if (!(p.mass[i] > 0.0 && std::isfinite(p.mass[i]))) at("mass =", p.mass[i]);
-      if (!(p.inv_mass[i] >= 0.0 && std::isfinite(p.inv_mass[i]))) at("inv_mass =", p.inv_mass[i]);
-      if (!(p.inv_inertia[i] >= 0.0 && std::isfinite(p.inv_inertia[i]))) at("inv_inertia =", p.inv_inertia[i]);
-      if (p.material[i] >= materials_.size() || wall_material_[p.material[i]])
-        at("material index", p.material[i]);
-      const auto mode = static_cast<std::uint8_t>(p.motion[i]);
-      if (mode > static_cast<std::uint8_t>(Motion::Prescribed)) at("motion mode", mode);
-      // (A prescribed particle takes its group's velocity: the group must exist.)
-      if (p.motion[i] == Motion::Prescribed && p.group[i] >= groups) at("prescribed, in group", p.group[i]);
-      if (i >= owned && p.ghost_owner[i - owned] >= owned) at("ghost of slot", p.ghost_owner[i - owned]);
-    }
-    for (std::size_t i = 0; i < owned; ++i)
-      if (p.id[i] >= next_id)
-        bad("particle slot " + std::to_string(i) + " has id " + std::to_string(p.id[i]) + ", not below the next id " +
-            std::to_string(next_id));
-    if (auto why = list.check_loaded(p.owned(), slots, walls_.size()); !why.empty()) bad(why);
-    for (std::size_t k = 0; k < bs.size(); ++k) {
-      const BodyState& b = bs[k];
-      bool finite = b.rotation.allFinite() && b.translation.allFinite() && b.force.allFinite() &&
-                    b.displacement.allFinite() && std::isfinite(b.work) && std::isfinite(b.rotation_since_build);
-      for (int c = 0; c < D::rot_dim; ++c) finite = finite && std::isfinite(component(b.torque, c));
-      if (!finite) bad("body " + std::to_string(k) + " has a value that is not finite");
-    }
-    for (std::size_t k = 0; k < ws.size(); ++k) {
-      bool finite = ws[k].force.allFinite();
-      for (int c = 0; c < D::rot_dim; ++c) finite = finite && std::isfinite(component(ws[k].torque, c));
-      if (!finite) bad("wall " + std::to_string(k) + " has a force or torque that is not finite");
-    }
-    for (std::size_t g = 0; g < modes.size(); ++g) {
-      const Motion scene = g < group_motion_.size() ? group_motion_[g] : Motion::Free;
-      if (modes[g] != scene) bad("group " + std::to_string(g) + " has a different motion mode than in the scene");
-    }
-
-    // ---- commit ----
-    time_ = time;
-    step_ = step;
-    next_id_ = next_id;
-    skin_used_ = skin;
-    time_origin_ = time_origin;
-    step_origin_ = step_origin;
-    particles_ = std::move(p);
-    list_.take_loaded(list);
-    for (std::size_t k = 0; k < bs.size(); ++k) {
-      Body<D>& b = bodies_[k];
-      b.pose = geometry::Pose<D>(bs[k].rotation, bs[k].translation);
-      b.force = bs[k].force;
-      b.torque = bs[k].torque;
-      b.work = bs[k].work;
-      b.displacement_since_build = bs[k].displacement;
-      b.rotation_since_build = bs[k].rotation_since_build;
-      b.set_velocities(time_);
-    }
-    // (The list read above lists the walls active when it was written; the scene's switches
-    // follow the checkpoint.)
-    for (std::size_t k = 0; k < ws.size(); ++k) {
-      walls_[k].active = ws[k].active;
-      walls_[k].force = ws[k].force;
-      walls_[k].torque = ws[k].torque;
-    }
-    if (!modes.empty()) group_mode_resize(static_cast<std::uint32_t>(modes.size() - 1));
-    wall_touched_.assign(list_.wall.size(), 0);
-    parallel_ = particles_.owned() >= kParallelMinParticles;
-    update_group_velocities(time_);
-    list_valid_ = true;
-    initialised_ = true;
-    forces_ready_ = true;
-  }
+  void load_state_format(R& r, std::uint32_t format, bool whole = false);
 
   /// Rebuilds the neighbour list now (normally automatic).
-  void rebuild() {
-    const double skin = effective_skin();
-    // A tensile model lists pairs to the pull-off separation beyond the skin (the rebuild test
-    // stays at half the skin, so a pair that can still touch is always listed).
-    list_.template rebuild<Search>(
-        particles_, config_.domain, skin + max_tensile_reach(), [](State& s) { Model::reverse(s); },
-        [&](std::size_t, const Vec& x, double reach, auto&& emit) {
-          for (std::uint32_t w = 0; w < walls_.size(); ++w) {
-            if (!walls_[w].active) continue;
-            walls_[w].for_each_contact(bodies_[walls_[w].body], x, reach,
-                                       [&](const geometry::SurfacePoint<D>& sp) { emit(w, sp.feature); });
-          }
-        });
-    for (auto& b : bodies_) {
-      b.displacement_since_build.setZero();
-      b.rotation_since_build = 0.0;
-    }
-    wall_touched_.assign(list_.wall.size(), 0);
-    parallel_ = particles_.owned() >= kParallelMinParticles;
-    skin_used_ = skin;
-    list_valid_ = true;
-    check_domain();
-  }
+  void rebuild();
 
  private:
+  // Observers, and the work of one force evaluation: per-layer accumulators, the packed pass's
+  // per-thread arrays and its queue of wall contacts.
   struct Observer {
     std::uint64_t every;
     std::function<void(Simulation&)> f;
@@ -1001,77 +484,33 @@ class Simulation {
     std::vector<std::uint32_t> entries, rows;
   };
 
+  // Wall contacts queued for the packed law (process_layer_packed): W at a time, one parameter
+  // set per pack.
+  struct WallQueue {
+    contact::GeometryLanes lanes;
+    State* state[lane_width];
+    State scratch[lane_width];  ///< histories of contacts without a slot (dropped after the law)
+    std::uint32_t i[lane_width], wall[lane_width];
+    Vec arm[lane_width];  ///< contact point - body origin
+    std::size_t count = 0;
+    std::size_t params = 0;
+  };
+
+  // ---- set-up (simulation/setup.hpp) ----
   // A particle wider than the domain along a bounded axis, or one that an active wall
   // overlaps by more than max_overlap_ratio x its radius (it pokes through the wall: the first
   // step would stop as unstable), is refused here, where the call that placed it is known.
-  void check_insertion(const Vec& x, double radius, const std::string& where) const {
-    for (int k = 0; k < D::dim; ++k) {
-      if (config_.domain.periodic[k]) continue;  // (the list refuses a period shorter than the range)
-      const double half = 0.5 * (config_.domain.hi[k] - config_.domain.lo[k]);
-      require(radius <= half, where, "radius", radius,
-              "(0, " + detail::to_text(half) + "] m (half the domain's width along axis " + std::to_string(k) +
-                  ": a larger particle does not fit in the box)");
-    }
-    const double allowed = config_.max_overlap_ratio * radius;
-    for (std::uint32_t w = 0; w < walls_.size(); ++w) {
-      if (!walls_[w].active) continue;
-      double deepest = 0.0;
-      walls_[w].for_each_contact(bodies_[walls_[w].body], x, radius, [&](const geometry::SurfacePoint<D>& sp) {
-        deepest = std::max(deepest, sp.overlap(radius));
-      });
-      if (deepest > allowed) {
-        std::ostringstream m;
-        m.precision(17);
-        m << where << ": the particle at x = (";
-        for (int k = 0; k < D::dim; ++k) m << (k ? ", " : "") << x[k];
-        m << ") m of radius " << radius << " m overlaps wall " << w << " by " << deepest
-          << " m, more than max_overlap_ratio (" << config_.max_overlap_ratio << ") x radius = " << allowed
-          << " m: it pokes through the wall";
-        throw InvalidParameter(m.str());
-      }
-    }
-  }
+  void check_insertion(const Vec& x, double radius, const std::string& where) const;
 
-  std::uint32_t add_material_impl(const Material& m, bool is_wall) {
-    const std::uint32_t idx = materials_.add(m, is_wall);
-    wall_material_.push_back(is_wall);
-    refresh_params();
-    return idx;
-  }
+  std::uint32_t add_material_impl(const Material& m, bool is_wall);
 
-  void refresh_params() {
-    const std::size_t nm = materials_.size();
-    params_.resize(nm * nm);
-    for (std::uint32_t a = 0; a < nm; ++a)
-      for (std::uint32_t b = 0; b < nm; ++b) params_[a * nm + b] = Model::make(materials_.pair(a, b), config_.thickness);
-  }
+  void refresh_params();
 
-  void group_mode_resize(std::uint32_t group) {
-    if (group >= group_motion_.size()) {
-      group_motion_.resize(group + 1, Motion::Free);
-      group_velocity_.resize(group + 1);
-      group_v_now_.resize(group + 1, Vec::Zero());
-    }
-  }
+  void group_mode_resize(std::uint32_t group);
 
-  void apply_group_motion(std::size_t i) {
-    const std::uint32_t g = particles_.group[i];
-    const Motion m = g < group_motion_.size() ? group_motion_[g] : Motion::Free;
-    particles_.set_motion(i, m);
-    if (m == Motion::Frozen) {
-      particles_.v[i].setZero();
-      particles_.omega[i] = D::zero_ang();
-    }
-    if (m == Motion::Prescribed) {
-      particles_.v[i] = group_velocity_[g](time_);
-      particles_.omega[i] = D::zero_ang();
-    }
-  }
+  void apply_group_motion(std::size_t i);
 
-  void update_group_velocities(double t) {
-    for (std::size_t g = 0; g < group_velocity_.size(); ++g)
-      if (group_velocity_[g]) group_v_now_[g] = group_velocity_[g](t);
-  }
+  void update_group_velocities(double t);
 
   static double component(const AngVec& w, int k) {
     if constexpr (D::dim == 2) {
@@ -1089,1031 +528,141 @@ class Simulation {
     }
   }
 
-  double effective_skin() const {
-    if (Search::rebuild_every_step) return 0.0;
-    if (config_.skin >= 0.0) return config_.skin;
-    double r_max = 0.0;
-    for (std::size_t i = 0; i < particles_.owned(); ++i) r_max = std::max(r_max, particles_.radius[i]);
-    return 0.2 * r_max;  // 0.1 x the largest diameter
-  }
+  // ---- the step's upkeep: first list and forces, rebuilds, ghosts, stops (simulation/upkeep.hpp) ----
+  double effective_skin() const;
 
-  void initialise() {
-    if (!initialised_) {
-      check_pair_parameters();
-      check_time_step();
-    }
-    rebuild();
-    update_group_velocities(time_);
-    for (auto& b : bodies_) b.set_velocities(time_);
-    if (forces_ready_) {
-      // Mid-run change (particles or walls added or removed): the list is rebuilt but forces
-      // are not evaluated twice, which would advance every tangential spring a second time.
-      // New particles start with zero force for their first half kick.
-      initialised_ = true;
-      return;
-    }
-    forces_ready_ = true;
-    // A pending request_contacts() is for the coming step, not this set-up evaluation.
-    const bool pending = record_next_;
-    setup_forces();
-    record_next_ = pending;
-    initialised_ = true;
-    check_rolling_time_step();
-  }
+  void initialise();
 
-  // The set-up evaluation: the forces of the initial state for the first half kick. No time has
-  // passed, so no contact history may change (LAMMPS does the same: no history update during
-  // set-up). The laws see dt = 0 -- no increment, no twist, the force of the history as it is --
-  // and whatever they still write (e.g. the stiffness the Mindlin force form remembers) is
-  // discarded: the history arrays are put back afterwards, so this holds for every law.
-  void setup_forces() {
-    struct Restore {
-      Simulation& sim;
-      ~Restore() { sim.setup_evaluation_ = false; }
-    } restore{*this};
-    std::vector<std::uint32_t> saved_slots;
-    std::vector<typename List::HistoryPool> saved_pools;
-    std::vector<State> saved_walls;
-    if constexpr (kHasState) {
-      saved_slots = list_.slot;
-      saved_pools = list_.pools;
-      saved_walls = list_.wall_state;
-    }
-    setup_evaluation_ = true;
-    compute_forces(contacts_wanted(step_) || record_next_);
-    if constexpr (kHasState) {
-      list_.slot.swap(saved_slots);
-      // Assigned, not swapped: the copies have no spare room (PairList::transfer reserved it).
-      for (std::size_t l = 0; l < saved_pools.size(); ++l) {
-        list_.pools[l].states.assign(saved_pools[l].states.begin(), saved_pools[l].states.end());
-        list_.pools[l].free.assign(saved_pools[l].free.begin(), saved_pools[l].free.end());
-      }
-      list_.wall_state.swap(saved_walls);
-    }
-  }
+  // The set-up evaluation: the forces of the initial state, changing no contact history.
+  void setup_forces();
 
+  bool contacts_wanted(std::uint64_t step) const;
+
+  /// Whether a moving body has moved more than half the skin since the last build (the
+  /// particles' displacement is tested in step()'s first pass).
+  bool body_needs_rebuild() const;
+
+  void refresh_ghosts();
+
+  void check_domain() const;
+
+  // One comparison for all components: c - c is 0 for a finite c and NaN otherwise, and a sum
+  // with a NaN is NaN. (Four allFinite() calls were a compare and branch each.)
+  bool finite_state(std::size_t i) const;
+
+  [[noreturn]] void throw_instability(std::size_t i, const std::string& why) const;
+
+  // ---- time-step and stability checks (simulation/time_step.hpp) ----
   // Every pair of materials that can touch (not two wall materials) against the laws' own
   // requirements (ContactModel::validate), naming the pair.
-  void check_pair_parameters() const {
-    for (std::uint32_t a = 0; a < materials_.size(); ++a)
-      for (std::uint32_t b = a; b < materials_.size(); ++b)
-        if (!(wall_material_[a] && wall_material_[b]))
-          Model::validate(materials_.pair(a, b),
-                          "material pair ('" + materials_[a].name + "', '" + materials_[b].name + "')");
-  }
+  void check_pair_parameters() const;
 
-  void check_time_step() const {
-    if (config_.allow_large_time_step || particles_.owned() == 0) return;
-    const double tc = critical_time_step();
-    if (!std::isfinite(tc)) return;
-    const double limit = config_.time_step_safety * tc;
-    if (config_.dt > limit) {
-      std::ostringstream s;
-      s.precision(6);
-      s << "SimulationConfig: dt = " << config_.dt << " s is outside the valid range (0, " << limit
-        << "] s: it exceeds time_step_safety (" << config_.time_step_safety << ") x the critical time "
-        << tc << " s ("
-        << (Model::NormalLaw::hertzian ? "Rayleigh time of the smallest particle"
-                                       : "linear critical time of the lightest particle, linear_critical_time()")
-        << "). Reduce dt, or set allow_large_time_step = true to override.";
-      throw InvalidParameter(s.str());
-    }
-  }
+  void check_time_step() const;
 
   // dt against rolling_stability_limit(): a bad step stops the run with the particle that
   // sets the limit (the excess shows as spin that the dashpots pump up to the mobilisation
   // limit, not as a blow-up, so no later test would catch it).
-  void check_rolling_time_step() const {
-    if constexpr (kRollingDashpot) {
-      if (config_.allow_large_time_step || !config_.check_rolling_stability) return;
-      const RollingLimit r = rolling_stability_limit();
-      std::ostringstream s;
-      s.precision(6);
-      if (r.contacts == 0 && step_ == 0) {
-        // No contact yet: the a-priori bound of the materials and the smallest particles.
-        const RollingEstimate e = rolling_limit_estimate();
-        if (config_.dt <= e.limit) return;
-        s << "SimulationConfig: dt = " << config_.dt << " s is outside the valid range (0, " << e.limit
-          << "] s before the first step: the rolling spring-dashpot of material '" << materials_[e.material].name
-          << "' against '" << materials_[e.partner].name << "' (rolling_damping eta_r = " << e.rolling_damping
-          << ", smallest particle at the overlap " << e.overlap
-          << " m that carries its weight) is stable only up to " << e.limit
-          << " s even with this one contact (rolling_limit_estimate; a bed of contacts needs less). Reduce dt or "
-             "rolling_damping (or the rolling stiffness), or set check_rolling_stability = false (or "
-             "allow_large_time_step = true) to override.";
-        throw InvalidParameter(s.str());
-      }
-      if (config_.dt <= r.limit) return;
-      const auto& p = particles_;
-      s << "SimulationConfig: dt = " << config_.dt << " s is outside the valid range (0, " << r.limit
-        << "] s at step " << step_ << ": the rolling spring-dashpots of particle id " << p.id[r.particle]
-        << " (" << r.contacts << " contacts, at (";
-      for (int k = 0; k < D::dim; ++k) s << (k ? ", " : "") << p.x[r.particle][k];
-      s << ") m, material '" << materials_[p.material[r.particle]].name << "', rolling_damping eta_r = "
-        << materials_[p.material[r.particle]].rolling_damping << ") are guaranteed stable only up to " << r.limit
-        << " s (rolling_stability_limit, a conservative bound). Reduce dt or rolling_damping, or set "
-           "check_rolling_stability = false (or allow_large_time_step = true) to override.";
-      throw InvalidParameter(s.str());
-    }
-  }
+  void check_rolling_time_step() const;
 
-  bool contacts_wanted(std::uint64_t step) const {
-    if (record_next_ || record_always_) return true;
-    for (const auto& o : observers_)
-      if (o.needs_contacts && step % o.every == 0) return true;
-    return false;
-  }
-
-  /// Whether a moving body has moved more than half the skin since the last build (the
-  /// particles' displacement is tested in step()'s first pass).
-  bool body_needs_rebuild() const {
-    const double half = 0.5 * skin_used_;
-    for (const auto& b : bodies_) {
-      if (!b.moving()) continue;
-      double moved = b.displacement_since_build.norm();
-      if (b.rotation_since_build > 0.0) {
-        double ext = 0.0;
-        for (const auto& w : walls_)
-          if (&bodies_[w.body] == &b) ext = std::max(ext, w.extent());
-        moved += b.rotation_since_build * ext;
-      }
-      if (moved > half) return true;
-    }
-    return false;
-  }
-
-  void refresh_ghosts() {
-    auto& p = particles_;
-    const std::size_t n = p.owned();
-    const Vec L = config_.domain.length();
-    for (std::size_t g = 0; g < p.ghosts(); ++g) {
-      const std::uint32_t o = p.ghost_owner[g];
-      p.x[n + g] = p.x[o] + (p.ghost_shift[g].template cast<double>().array() * L.array()).matrix();
-      p.v[n + g] = p.v[o];
-      p.omega[n + g] = p.omega[o];
-    }
-  }
-
-  void check_domain() const {
-    for (std::size_t i = 0; i < particles_.owned(); ++i) {
-      if (!particles_.x[i].allFinite()) throw_instability(i, "its position is not finite");
-      if (!config_.domain.contains(particles_.x[i])) throw_instability(i, "it left the non-periodic domain");
-    }
-  }
-
-  // One comparison for all components: c - c is 0 for a finite c and NaN otherwise, and a sum
-  // with a NaN is NaN. (Four allFinite() calls were a compare and branch each.)
-  bool finite_state(std::size_t i) const {
-    const auto& p = particles_;
-    const auto zeros = [](const auto& a) { return (a - a).sum(); };
-    double s = zeros(p.f[i]) + zeros(p.x[i]) + zeros(p.v[i]);
-    if constexpr (D::dim == 3) {
-      s += zeros(p.torque[i]);
-    } else {
-      s += p.torque[i] - p.torque[i];
-    }
-    return s == 0.0;
-  }
-
-  [[noreturn]] void throw_instability(std::size_t i, const std::string& why) const {
-    std::ostringstream s;
-    s.precision(9);
-    s << "Simulation unstable at step " << step_ << " (t = " << time_ << " s): particle id "
-      << particles_.id[i] << " at (";
-    for (int k = 0; k < D::dim; ++k) s << (k ? ", " : "") << particles_.x[i][k];
-    s << ") m: " << why << ". Reduce dt or check the set-up (overlaps, stiffness, walls).";
-    throw InstabilityError(s.str());
-  }
-
+  // ---- contact geometry (simulation/contact_geometry.hpp) ----
   // Builds the contact geometry of pair (i, j); returns false if not touching. A tensile
   // model's formed contact touches to a separation of `reach` (overlap > -reach).
-  bool pair_geometry(std::size_t i, std::size_t j, contact::ContactGeometry<D>& g, double reach = 0.0) const {
-    const auto& p = particles_;
-    const Vec d = p.x[i] - p.x[j];
-    const double rs = p.radius[i] + p.radius[j];
-    const double d2 = d.squaredNorm();
-    if constexpr (Model::tensile) {
-      if (d2 >= (rs + reach) * (rs + reach)) return false;
-    } else {
-      if (d2 >= rs * rs) return false;
-    }
-    const double dist = std::sqrt(d2);
-    g.distance = dist;
-    g.n = dist > 0.0 ? Vec(d / dist) : Vec(Vec::Unit(D::dim - 1));
-    g.overlap = rs - dist;
-    g.r_i = p.radius[i];
-    g.r_j = p.radius[j];
-    g.arm_i = g.r_i - 0.5 * g.overlap;
-    g.arm_j = g.r_j - 0.5 * g.overlap;
-    g.r_eff = g.r_i * g.r_j / rs;
-    g.m_eff = 1.0 / (p.inv_mass[i] + p.inv_mass[j]);
-    g.v_rel = p.v[i] - p.v[j] - (g.arm_i * D::cross(p.omega[i], g.n) + g.arm_j * D::cross(p.omega[j], g.n));
-    g.vn = g.v_rel.dot(g.n);
-    g.vt = g.v_rel - g.vn * g.n;
-    g.omega_rel = p.omega[i] - p.omega[j];
-    if constexpr (kPredictDamping) {
-      const Vec vd = v_damp_[i] - v_damp_[j] -
-                     (g.arm_i * D::cross(omega_damp_[i], g.n) + g.arm_j * D::cross(omega_damp_[j], g.n));
-      g.vn_damp = vd.dot(g.n);
-      g.vt_damp = vd - g.vn_damp * g.n;
-      g.omega_rel_damp = omega_damp_[i] - omega_damp_[j];
-    } else {
-      g.damp_at_kinematic_velocity();
-    }
-    if constexpr (Model::needs_rolling_inertia) {
-      const double k1 = D::inertia_factor + 1.0;
-      g.i_roll = 1.0 / (p.inv_mass[i] / (k1 * g.r_i * g.r_i) + p.inv_mass[j] / (k1 * g.r_j * g.r_j));
-    } else {
-      g.i_roll = 0.0;
-    }
-    g.dt = setup_evaluation_ ? 0.0 : config_.dt;
-    // Mean twist angle of the step about n (3D only; a disk pair has no twist).
-    if constexpr (D::dim == 3 && Model::needs_twist) g.twist = 0.5 * (p.omega[i] + p.omega[j]).dot(g.n) * g.dt;
-    return true;
-  }
+  bool pair_geometry(std::size_t i, std::size_t j, contact::ContactGeometry<D>& g, double reach = 0.0) const;
 
   // Builds the contact geometry of particle i against a wall surface point.
   bool wall_geometry(std::size_t i, const geometry::SurfacePoint<D>& sp, const Body<D>& b,
-                     contact::ContactGeometry<D>& g, double reach = 0.0) const {
-    const auto& p = particles_;
-    const double overlap = p.radius[i] - sp.distance;
-    if constexpr (Model::tensile) {
-      if (overlap <= -reach) return false;
-    } else {
-      if (overlap <= 0.0) return false;
-    }
-    g.n = sp.normal;
-    g.overlap = overlap;
-    g.distance = std::numeric_limits<double>::infinity();
-    g.r_i = p.radius[i];
-    g.r_j = std::numeric_limits<double>::infinity();
-    g.arm_i = sp.distance;  // centre to the contact point on the wall surface
-    g.arm_j = 0.0;
-    g.r_eff = g.r_i;
-    g.m_eff = p.mass[i];
-    const Vec vw = b.point_velocity(sp.point);
-    g.v_rel = p.v[i] - g.arm_i * D::cross(p.omega[i], g.n) - vw;
-    g.vn = g.v_rel.dot(g.n);
-    g.vt = g.v_rel - g.vn * g.n;
-    g.omega_rel = p.omega[i] - b.current_angular_velocity;
-    if constexpr (kPredictDamping) {
-      const Vec vd = v_damp_[i] - g.arm_i * D::cross(omega_damp_[i], g.n) - vw;
-      g.vn_damp = vd.dot(g.n);
-      g.vt_damp = vd - g.vn_damp * g.n;
-      g.omega_rel_damp = omega_damp_[i] - b.current_angular_velocity;
-    } else {
-      g.damp_at_kinematic_velocity();
-    }
-    if constexpr (Model::needs_rolling_inertia) {
-      g.i_roll = (D::inertia_factor + 1.0) * p.mass[i] * g.r_i * g.r_i;
-    } else {
-      g.i_roll = 0.0;
-    }
-    g.dt = setup_evaluation_ ? 0.0 : config_.dt;
-    if constexpr (D::dim == 3 && Model::needs_twist)
-      g.twist = 0.5 * (p.omega[i] + b.current_angular_velocity).dot(g.n) * g.dt;
-    return true;
-  }
+                     contact::ContactGeometry<D>& g, double reach = 0.0) const;
 
   // How far apart pair (i, j) with history h still touches: the pull-off separation once the
   // contact has formed (tensile models), else 0.
-  double tensile_reach(const State* h, const Params& prm, std::size_t i, std::size_t j) const {
-    if constexpr (Model::tensile) {
-      if (h == nullptr || !h->contact.formed) return 0.0;
-      const double ri = particles_.radius[i], rj = particles_.radius[j];
-      return Model::pull_off_separation(prm, ri * rj / (ri + rj));
-    } else {
-      return 0.0;
-    }
-  }
+  double tensile_reach(const State* h, const Params& prm, std::size_t i, std::size_t j) const;
 
   // As tensile_reach for particle i and a wall (R* = r_i).
-  double tensile_wall_reach(const State* h, const Params& prm, std::size_t i) const {
-    if constexpr (Model::tensile) {
-      return h == nullptr || !h->contact.formed ? 0.0 : Model::pull_off_separation(prm, particles_.radius[i]);
-    } else {
-      return 0.0;
-    }
-  }
+  double tensile_wall_reach(const State* h, const Params& prm, std::size_t i) const;
 
   // The largest pull-off separation of any contact (R* <= r_max, a wall's), for the list's cut-off.
-  double max_tensile_reach() const {
-    double reach = 0.0;
-    if constexpr (Model::tensile) {
-      double r_max = 0.0;
-      for (std::size_t i = 0; i < particles_.owned(); ++i) r_max = std::max(r_max, particles_.radius[i]);
-      for (const Params& prm : params_) reach = std::max(reach, Model::pull_off_separation(prm, r_max));
-    }
-    return reach;
-  }
+  double max_tensile_reach() const;
 
-  const Params& pair_params(std::size_t i, std::size_t j) const {
-    return params_[particles_.material[i] * materials_.size() + particles_.material[j]];
-  }
+  const Params& pair_params(std::size_t i, std::size_t j) const;
 
   // Visits every touching pair and wall contact with its geometry, without changing history.
   template <class F>
-  void for_each_contact_geometry(F&& f) const {
-    const auto& p = particles_;
-    contact::ContactGeometry<D> g;
-    static const State kEmpty{};
-    // Row by row within each layer: an entry's history lives in its layer's pool.
-    for (std::size_t l = 0; l < list_.layers(); ++l) {
-      for (std::size_t i = list_.layer_begin[l]; i < list_.layer_begin[l + 1]; ++i) {
-        for (std::uint32_t e = list_.row_begin[i]; e < list_.row_begin[i + 1]; ++e) {
-          const std::uint32_t j = list_.nbr[e];
-          const State* h = kHasState ? list_.history(l, e) : nullptr;
-          if (!pair_geometry(i, j, g, tensile_reach(h, pair_params(i, j), i, j))) continue;
-          f(g, pair_params(i, j), h ? *h : kEmpty, i, j, 0u);
-        }
-        for (std::uint32_t e = list_.wall_begin[i]; e < list_.wall_begin[i + 1]; ++e) {
-          const auto we = list_.wall[e];
-          const Wall<D>& w = walls_[we.wall];
-          const Body<D>& b = bodies_[w.body];
-          const Params& prm = params_[p.material[i] * materials_.size() + w.material];
-          const double reach = tensile_wall_reach(list_.wall_state.empty() ? nullptr : &list_.wall_state[e], prm, i);
-          w.for_each_contact(b, p.x[i], Model::tensile ? p.radius[i] + reach : p.radius[i], [&](const geometry::SurfacePoint<D>& sp) {
-            if (sp.feature != we.feature || !wall_geometry(i, sp, b, g, reach)) return;
-            const State& s = kHasState ? list_.wall_state[e] : kEmpty;
-            f(g, prm, s, i, we.wall, 1u);
-          });
-        }
-      }
-    }
-  }
+  void for_each_contact_geometry(F&& f) const;
 
+  // ---- the force pass over pairs (simulation/pair_pass.hpp) ----
   /// `owned_reset`: the owned particles' forces and torques are already reset (step() does it
   /// in its first pass); `check_finite`: test the result here (step() does it in its last).
-  void compute_forces(bool record, bool owned_reset = false, bool check_finite = true) {
-    auto& p = particles_;
-    const std::size_t n = p.owned();
-    const std::size_t m = p.size();
-    const std::size_t nb = bodies_.size();
-    const std::size_t nw = walls_.size();
-    if constexpr (kPredictDamping) predict_damping_velocities();
-    // After step()'s first pass only the ghosts are left: too few to pay for a barrier.
-    const std::size_t reset_from = owned_reset ? n : 0;
-#pragma omp parallel for schedule(static) if (parallel_ && !owned_reset)
-    for (std::size_t i = reset_from; i < m; ++i) {
-      p.f[i] = (i < n && p.motion[i] == Motion::Free) ? Vec(p.mass[i] * config_.gravity) : Vec(Vec::Zero());
-      p.torque[i] = D::zero_ang();
-    }
-    const std::size_t nl = list_.layers();
-    layer_acc_.resize(nl);
-#ifdef _OPENMP
-    pair_work_.resize(static_cast<std::size_t>(omp_get_max_threads()));
-#else
-    pair_work_.resize(1);
-#endif
-    for (auto& a : layer_acc_) {
-      a.contacts = 0;
-      a.bad_row = std::numeric_limits<std::size_t>::max();
-      a.missing_wall_features = 0;
-      a.body_force.assign(nb, Vec::Zero());
-      a.body_torque.assign(nb, D::zero_ang());
-      a.wall_force.assign(nw, Vec::Zero());
-      a.wall_torque.assign(nw, D::zero_ang());
-      a.records.clear();
-    }
-    const bool parallel = Search::uses_cells;
-    // Three colours: layers l and l + 3 never touch the same particle or ghost. Each thread
-    // takes one contiguous range of a colour's layers (static schedule), so that it works on
-    // the same particles in every colour and in the kick passes (particles are sorted by
-    // layer): with layers handed out one at a time (dynamic) the particles' cache lines moved
-    // between the cores at every phase, and two threads ran 1.1-1.4x one thread on a VM whose
-    // cores are far apart (docs/performance.md, "Two threads").
-    // The ranges hold about equal work (pair entries and rows), not equal numbers of layers:
-    // the layers run along the domain's longest axis, and a bed in a tall box left the thread
-    // that got the layers above it idle (the two-rod study ran its pair loop on one thread).
-    // Which thread takes a layer does not change the result.
-    const auto& row_begin = list_.row_begin;
-    const auto& layer_begin = list_.layer_begin;
-    auto layer_work = [&](std::size_t l) -> std::uint64_t {
-      return std::uint64_t(row_begin[layer_begin[l + 1]] - row_begin[layer_begin[l]]) +
-             (layer_begin[l + 1] - layer_begin[l]);
-    };
-    const auto process = [&](std::size_t l) {
-      if (record) {
-        process_layer<true>(l);
-      } else if (kPackable && config_.packed_contacts) {
-        process_layer_packed(l);
-      } else {
-        process_layer<false>(l);
-      }
-    };
-    // One thread: the same layers in the same order, without the parallel regions and the work
-    // split (both cost 3-4 % of a 1600-disk 2D step).
-    const bool threaded = parallel && parallel_;
-    for (std::size_t colour = 0; colour < 3 && !threaded; ++colour)
-      for (std::size_t l = colour; l < nl; l += 3) process(l);
-    for (std::size_t colour = 0; colour < 3 && threaded; ++colour) {
-      const std::size_t count = nl > colour ? (nl - colour + 2) / 3 : 0;
-#pragma omp parallel
-      {
-#ifdef _OPENMP
-        const std::uint64_t thread = static_cast<std::uint64_t>(omp_get_thread_num());
-        const std::uint64_t threads = static_cast<std::uint64_t>(omp_get_num_threads());
-#else
-        const std::uint64_t thread = 0, threads = 1;
-#endif
-        std::uint64_t total = 0;
-        for (std::size_t t = 0; t < count; ++t) total += layer_work(colour + 3 * t);
-        // A layer goes to the thread whose share of the total holds the layer's midpoint.
-        std::uint64_t before = 0;
-        for (std::size_t t = 0; t < count; ++t) {
-          const std::size_t l = colour + 3 * t;
-          const std::uint64_t w = layer_work(l);
-          const std::uint64_t owner =
-              total == 0 ? 0 : std::min(threads - 1, (2 * before + w) * threads / (2 * total));
-          before += w;
-          if (owner == thread) process(l);
-        }
-      }
-    }
-    // Ghost forces go back to their owners, in ghost order.
-    for (std::size_t g = 0; g < p.ghosts(); ++g) {
-      const std::uint32_t o = p.ghost_owner[g];
-      p.f[o] += p.f[n + g];
-      p.torque[o] += p.torque[n + g];
-    }
-    contacts_ = 0;
-    for (auto& b : bodies_) {
-      b.force.setZero();
-      b.torque = D::zero_ang();
-    }
-    for (auto& w : walls_) {
-      w.force.setZero();
-      w.torque = D::zero_ang();
-    }
-    std::size_t bad_layer = nl;
-    for (std::size_t l = 0; l < nl; ++l) {
-      const auto& a = layer_acc_[l];
-      contacts_ += a.contacts;
-      for (std::size_t b = 0; b < nb; ++b) {
-        bodies_[b].force += a.body_force[b];
-        bodies_[b].torque += a.body_torque[b];
-      }
-      for (std::size_t w = 0; w < nw; ++w) {
-        walls_[w].force += a.wall_force[w];
-        walls_[w].torque += a.wall_torque[w];
-      }
-      if (a.bad_row != std::numeric_limits<std::size_t>::max() && bad_layer == nl) bad_layer = l;
-    }
-    if (record) {
-      records_.clear();
-      for (const auto& a : layer_acc_) records_.insert(records_.end(), a.records.begin(), a.records.end());
-      records_step_ = step_;
-      record_next_ = false;
-    }
-    if (bad_layer != nl) {
-      const auto& a = layer_acc_[bad_layer];
-      std::ostringstream s;
-      s.precision(6);
-      s << "overlap " << a.bad_overlap << " m with "
-        << (a.bad_wall ? "wall " + std::to_string(a.bad_partner)
-                       : "particle id " + std::to_string(p.id[a.bad_partner]))
-        << " exceeds max_overlap_ratio (" << config_.max_overlap_ratio << ") x the smaller radius";
-      throw_instability(a.bad_row, s.str());
-    }
-    if (!check_finite) return;
-    std::size_t bad = std::numeric_limits<std::size_t>::max();
-#pragma omp parallel for schedule(static) reduction(min : bad) if (parallel_)
-    for (std::size_t i = 0; i < n; ++i)
-      if (!finite_state(i)) bad = std::min(bad, i);
-    if (bad != std::numeric_limits<std::size_t>::max())
-      throw_instability(bad, "its force, torque, position or velocity is not finite");
-  }
+  void compute_forces(bool record, bool owned_reset = false, bool check_finite = true);
 
-  // The velocities the dashpots see (integrators::VelocityVerletPredictedDamping): the end-of-step
-  // velocity extrapolated with the force of the previous step, v + (a2 dt) F_old / m, which p.f
-  // still holds here (the reset comes after). Ghosts copy their owners. The set-up evaluation
-  // and non-free particles use v itself.
-  void predict_damping_velocities() {
-    auto& p = particles_;
-    const std::size_t n = p.owned();
-    const double kick = setup_evaluation_ ? 0.0 : Integrator::second_kick * config_.dt;
-    v_damp_.resize(p.size());
-    omega_damp_.resize(p.size());
-#pragma omp parallel for schedule(static) if (parallel_)
-    for (std::size_t i = 0; i < n; ++i) {
-      if (p.motion[i] == Motion::Free) {
-        v_damp_[i] = p.v[i] + (kick * p.inv_mass[i]) * p.f[i];
-        omega_damp_[i] = p.omega[i] + (kick * p.inv_inertia[i]) * p.torque[i];
-      } else {
-        v_damp_[i] = p.v[i];
-        omega_damp_[i] = p.omega[i];
-      }
-    }
-    for (std::size_t g = 0; g < p.ghosts(); ++g) {
-      v_damp_[n + g] = v_damp_[p.ghost_owner[g]];
-      omega_damp_[n + g] = omega_damp_[p.ghost_owner[g]];
-    }
-  }
+  // The velocities the dashpots see (integrators::VelocityVerletPredictedDamping).
+  void predict_damping_velocities();
 
   template <bool Record>
-  GRANULE_FLATTEN void process_layer(std::size_t l) {
-    auto& p = particles_;
-    auto& acc = layer_acc_[l];
-    const std::size_t n = p.owned();
-    const std::size_t nm = materials_.size();
-    const double max_ratio = config_.max_overlap_ratio;
-    contact::ContactGeometry<D> g;
-    State scratch{};
-    for (std::size_t i = list_.layer_begin[l]; i < list_.layer_begin[l + 1]; ++i) {
-      Vec fi = Vec::Zero();
-      AngVec ti = D::zero_ang();
-      const Params* prow = &params_[p.material[i] * nm];
-      for (std::uint32_t e = list_.row_begin[i]; e < list_.row_begin[i + 1]; ++e) {
-        const std::uint32_t j = list_.nbr[e];
-        double reach = 0.0;
-        if constexpr (Model::tensile) reach = tensile_reach(list_.history(l, e), prow[p.material[j]], i, j);
-        if (!pair_geometry(i, j, g, reach)) {
-          if constexpr (kHasState) list_.drop(l, e);
-          continue;
-        }
-        if constexpr (kHasState) list_.acquire(l, e);
-        State& s = kHasState ? *list_.history(l, e) : scratch;
-        if (g.overlap > max_ratio * std::min(g.r_i, g.r_j) && acc.bad_row == std::numeric_limits<std::size_t>::max()) {
-          acc.bad_row = i;
-          acc.bad_partner = j < n ? j : p.ghost_owner[j - n];
-          acc.bad_overlap = g.overlap;
-          acc.bad_wall = false;
-        }
-        const contact::ContactForce<D> cf = Model::evaluate(prow[p.material[j]], g, s);
-        fi += cf.force;
-        ti += cf.torque_i;
-        p.f[j] -= cf.force;
-        p.torque[j] += cf.torque_j;
-        ++acc.contacts;
-        if constexpr (Record) {
-          analysis::ContactRecord<D> r;
-          r.i = static_cast<std::uint32_t>(i);
-          r.j = static_cast<std::uint32_t>(j < n ? j : p.ghost_owner[j - n]);
-          r.normal = g.n;
-          r.branch = -g.distance * g.n;
-          r.contact_point = p.x[i] - g.arm_i * g.n;
-          r.overlap = g.overlap;
-          r.fn = cf.fn;
-          r.ft = cf.ft;
-          r.mu = materials_.pair(p.material[i], p.material[j]).mu_s;
-          acc.records.push_back(r);
-        }
-      }
-      wall_contacts<Record>(i, acc, fi, ti);
-      p.f[i] += fi;
-      p.torque[i] += ti;
-    }
-  }
+  GRANULE_FLATTEN void process_layer(std::size_t l);
 
-  // The walls of row i, one contact at a time: surface point, geometry, history slot, the
-  // overlap check, and the history of features no longer touched. `use(g, state, params, wall, sp)`
-  // evaluates each contact or queues it; state is null for a contact without a history slot (a
-  // feature the list has no entry for) and for models without history.
+  // The doubles of a vector of small vectors (null when it is empty).
+  template <class V>
+  static const double* scalars(const std::vector<V>& v);
+
+  // Prefetches the particle data that the packs of layers l and l + 1 gather and scatter.
+  void prefetch_layer_pair(std::size_t l) const;
+
+  // process_layer<false> with the particle pairs, and the wall contacts' law, evaluated W at a
+  // time (contact/packed.hpp).
+  GRANULE_FLATTEN void process_layer_packed(std::size_t l);
+
+  // Lists touching pairs k, k+1, ... in the chunk until it is full or the material pair changes;
+  // returns the first pair not listed.
+  template <class Chunk>
+  std::size_t fill_chunk(Chunk& chunk, const std::uint32_t* touching, const std::uint32_t* rows,
+                         std::size_t k, std::size_t nt) const;
+
+  // Passes 2 and 3 of the packed pair loop (contact/packed.hpp) for one chunk; empties it.
+  template <class Chunk>
+  void evaluate_chunk(Chunk& chunk, LayerAccumulator& acc, std::size_t l);
+
+  // ---- the wall pass (simulation/wall_pass.hpp) ----
+  // The walls of row i, one contact at a time, each handed to `use(g, state, params, wall, sp)`
+  // to evaluate or queue.
   template <class Use>
-  void for_each_wall_contact(std::size_t i, LayerAccumulator& acc, Use&& use) {
-    for (std::uint32_t e = list_.wall_begin[i]; e < list_.wall_begin[i + 1]; ++e)
-      wall_entry_contacts(i, e, acc, use);
-  }
+  void for_each_wall_contact(std::size_t i, LayerAccumulator& acc, Use&& use);
 
   // The contacts of wall entry e of row i: a plane's at once, other shapes' with the first of
   // the wall's entries (features) in the row.
   template <class Use>
-  void wall_entry_contacts(std::size_t i, std::uint32_t e, LayerAccumulator& acc, Use& use) {
-    const std::uint32_t wall = list_.wall[e].wall;
-    const Wall<D>& w = walls_[wall];
-    if (const auto* plane = std::get_if<geometry::PlaneShape<D>>(&w.shape)) {
-      plane_contact(i, e, *plane, w, acc, use);
-    } else if (e == list_.wall_begin[i] || list_.wall[e - 1].wall != wall) {
-      wall_group_contacts(i, e, acc, use);
-    }
-  }
+  void wall_entry_contacts(std::size_t i, std::uint32_t e, LayerAccumulator& acc, Use& use);
 
   // The contacts of row i with the wall of entry e, the first of that wall's entries in the row.
   template <class Use>
-  void wall_group_contacts(std::size_t i, std::uint32_t e, LayerAccumulator& acc, Use& use) {
-    auto& p = particles_;
-    const double max_ratio = config_.max_overlap_ratio;
-    const std::uint32_t wall = list_.wall[e].wall;
-    const std::uint32_t row_end = list_.wall_begin[i + 1];
-    const Wall<D>& w = walls_[wall];
-    const Body<D>& b = bodies_[w.body];
-    const std::size_t prm = p.material[i] * materials_.size() + w.material;
-    contact::ContactGeometry<D> g;
-    // A tensile model looks for features to the pull-off separation (formed contacts hold there).
-    double search = p.radius[i];
-    if constexpr (Model::tensile) search += Model::pull_off_separation(params_[prm], p.radius[i]);
-    w.for_each_contact(b, p.x[i], search, [&](const geometry::SurfacePoint<D>& sp) {
-      // History slot of this feature among the row's entries for this wall.
-      const auto find_slot = [&] {
-        for (std::uint32_t k = e; k < row_end && list_.wall[k].wall == wall; ++k)
-          if (list_.wall[k].feature == sp.feature) return k;
-        return std::numeric_limits<std::uint32_t>::max();
-      };
-      std::uint32_t slot = std::numeric_limits<std::uint32_t>::max();
-      if constexpr (Model::tensile) {
-        slot = find_slot();
-        const State* h = slot != std::numeric_limits<std::uint32_t>::max() ? &list_.wall_state[slot] : nullptr;
-        if (!wall_geometry(i, sp, b, g, tensile_wall_reach(h, params_[prm], i))) return;
-      } else {
-        if (!wall_geometry(i, sp, b, g)) return;
-        slot = find_slot();
-      }
-      if (slot == std::numeric_limits<std::uint32_t>::max()) ++acc.missing_wall_features;
-      note_wall_overlap(i, wall, g, max_ratio, acc);
-      State* state = nullptr;
-      if (slot != std::numeric_limits<std::uint32_t>::max()) {
-        if constexpr (kHasState) state = &list_.wall_state[slot];
-        touched_mark(slot);
-      }
-      use(g, state, prm, wall, sp);
-    });
-    // Features of this wall not in contact this step lose their history.
-    if constexpr (kHasState) {
-      for (std::uint32_t k = e; k < row_end && list_.wall[k].wall == wall; ++k) {
-        if (!touched_take(k)) list_.wall_state[k] = State{};
-      }
-    }
-  }
+  void wall_group_contacts(std::size_t i, std::uint32_t e, LayerAccumulator& acc, Use& use);
 
-  // The contact of row i with plane wall entry e (a plane has one feature, so one entry per
-  // row and its slot is e): wall_group_contacts without the shape dispatch, the slot search
-  // and the touch marks, in the same arithmetic (Wall::for_each_contact's pose transforms
-  // and PlaneShape::closest), so results are bitwise the same.
+  // The contact of row i with plane wall entry e, bitwise as wall_group_contacts would give it.
   template <class Use>
   void plane_contact(std::size_t i, std::uint32_t e, const geometry::PlaneShape<D>& plane, const Wall<D>& w,
-                     LayerAccumulator& acc, Use& use) {
-    auto& p = particles_;
-    const Body<D>& b = bodies_[w.body];
-    const geometry::SurfacePoint<D> sp = b.pose.to_world(plane.closest(b.pose.to_body(p.x[i])));
-    contact::ContactGeometry<D> g;
-    double reach = 0.0;
-    if constexpr (Model::tensile) {
-      reach = tensile_wall_reach(&list_.wall_state[e], params_[p.material[i] * materials_.size() + w.material], i);
-    }
-    if (!(sp.distance < (Model::tensile ? p.radius[i] + reach : p.radius[i])) || !wall_geometry(i, sp, b, g, reach)) {
-      if constexpr (kHasState) list_.wall_state[e] = State{};
-      return;
-    }
-    const std::uint32_t wall = list_.wall[e].wall;
-    note_wall_overlap(i, wall, g, config_.max_overlap_ratio, acc);
-    State* state = nullptr;
-    if constexpr (kHasState) state = &list_.wall_state[e];
-    use(g, state, p.material[i] * materials_.size() + w.material, wall, sp);
-  }
+                     LayerAccumulator& acc, Use& use);
 
   // The first overlap of a layer beyond max_overlap_ratio of the radius, for the step's check.
   void note_wall_overlap(std::size_t i, std::uint32_t wall, const contact::ContactGeometry<D>& g,
-                         double max_ratio, LayerAccumulator& acc) const {
-    if (g.overlap > max_ratio * g.r_i && acc.bad_row == std::numeric_limits<std::size_t>::max()) {
-      acc.bad_row = i;
-      acc.bad_partner = wall;
-      acc.bad_overlap = g.overlap;
-      acc.bad_wall = true;
-    }
-  }
+                         double max_ratio, LayerAccumulator& acc) const;
 
   // The walls of row i: forces and torques on i go to fi and ti, those on the bodies to acc.
   template <bool Record>
-  void wall_contacts(std::size_t i, LayerAccumulator& acc, Vec& fi, AngVec& ti) {
-    for_each_wall_contact(i, acc, [&](const contact::ContactGeometry<D>& g, State* state, std::size_t prm,
-                                      std::uint32_t wall, const geometry::SurfacePoint<D>& sp) {
-      const Wall<D>& w = walls_[wall];
-      State tmp{};
-      const contact::ContactForce<D> cf = Model::evaluate(params_[prm], g, state != nullptr ? *state : tmp);
-      fi += cf.force;
-      ti += cf.torque_i;
-      acc.body_force[w.body] -= cf.force;
-      const Vec arm = sp.point - bodies_[w.body].pose.translation();
-      const AngVec t = D::cross(arm, cf.force);
-      acc.body_torque[w.body] -= t;
-      acc.wall_force[wall] -= cf.force;
-      acc.wall_torque[wall] -= t;
-      ++acc.contacts;
-      if constexpr (Record) {
-        const auto& p = particles_;
-        analysis::ContactRecord<D> r;
-        r.i = static_cast<std::uint32_t>(i);
-        r.wall = wall;
-        r.normal = g.n;
-        r.branch = sp.point - p.x[i];
-        r.contact_point = sp.point;
-        r.overlap = g.overlap;
-        r.fn = cf.fn;
-        r.ft = cf.ft;
-        r.mu = materials_.pair(p.material[i], w.material).mu_s;
-        acc.records.push_back(r);
-      }
-    });
-  }
+  void wall_contacts(std::size_t i, LayerAccumulator& acc, Vec& fi, AngVec& ti);
 
-  // Wall contacts queued for the packed law (process_layer_packed): W at a time, one parameter
-  // set per pack.
-  struct WallQueue {
-    contact::GeometryLanes lanes;
-    State* state[lane_width];
-    State scratch[lane_width];  ///< histories of contacts without a slot (dropped after the law)
-    std::uint32_t i[lane_width], wall[lane_width];
-    Vec arm[lane_width];  ///< contact point - body origin
-    std::size_t count = 0;
-    std::size_t params = 0;
-  };
+  // The wall contacts of rows r0..r1 into the queue, in entry order.
+  void queue_wall_contacts(std::size_t r0, std::size_t r1, LayerAccumulator& acc, WallQueue& q);
 
-  // The wall contacts of rows r0..r1 into the queue, in entry order: entry by entry through
-  // the list's wall_row (most rows have no wall entries, and looking for those that do cost
-  // about 1 % of scene B).
-  void queue_wall_contacts(std::size_t r0, std::size_t r1, LayerAccumulator& acc, WallQueue& q) {
-    std::uint32_t row = 0;
-    const auto queue = [&](const contact::ContactGeometry<D>& g, State* state, std::size_t prm,
-                           std::uint32_t wall, const geometry::SurfacePoint<D>& sp) {
-      const std::uint32_t body = walls_[wall].body;
-      if (q.count > 0 && prm != q.params) flush_wall_queue(q, acc);
-      const std::size_t l = q.count++;
-      q.params = prm;
-      q.lanes.set(l, g);
-      if (state == nullptr) {
-        q.scratch[l] = State{};
-        state = &q.scratch[l];
-      }
-      q.state[l] = state;
-      q.i[l] = row;
-      q.wall[l] = wall;
-      q.arm[l] = sp.point - bodies_[body].pose.translation();
-      if (q.count == lane_width) flush_wall_queue(q, acc);
-    };
-    const std::uint32_t e1 = list_.wall_begin[r1];
-    for (std::uint32_t e = list_.wall_begin[r0]; e < e1; ++e) {
-      row = list_.wall_row[e];
-      wall_entry_contacts(row, e, acc, queue);
-    }
-  }
+  // The packed law for the queued wall contacts; out of line on purpose (see the definition).
+  [[gnu::noinline]] GRANULE_FLATTEN void flush_wall_queue(WallQueue& q, LayerAccumulator& acc);
 
-  // The packed law for the queued wall contacts; forces and torques to the particles and bodies
-  // in queue order. (One out-of-line copy: inlined at its three calls into the flattened pair
-  // loop it made scene A 5 % slower.)
-  [[gnu::noinline]] GRANULE_FLATTEN void flush_wall_queue(WallQueue& q, LayerAccumulator& acc) {
-    if constexpr (kPackable && D::dim == 3) {
-      using LD = Dim3Lanes;
-      using PackedState = typename Model::template State<LD>;
-      const std::size_t n = q.count;
-      if (n == 0) return;
-      for (std::size_t l = n; l < lane_width; ++l) {  // padding: copies of the last contact
-        q.lanes.copy_lane(n - 1, l);
-        q.state[l] = q.state[n - 1];
-      }
-      const contact::ContactGeometry<LD> g = q.lanes.packed();
-      PackedState s{};
-      if constexpr (kHasState) contact::PackedState<State, PackedState>::load(s, q.state);
-      const contact::ContactForce<LD> cf = Model::evaluate(params_[q.params], g, s);
-      if constexpr (kHasState) contact::PackedState<State, PackedState>::store(s, q.state, n);
-      alignas(64) double out[6][lane_width];
-      const Lane* parts[6] = {&cf.force.x, &cf.force.y, &cf.force.z, &cf.torque_i.x, &cf.torque_i.y, &cf.torque_i.z};
-      for (std::size_t k = 0; k < 6; ++k) parts[k]->copy_to(out[k], stdx::vector_aligned);
-      auto& p = particles_;
-      for (std::size_t l = 0; l < n; ++l) {
-        const Vec f(out[0][l], out[1][l], out[2][l]);
-        p.f[q.i[l]] += f;
-        p.torque[q.i[l]] += AngVec(out[3][l], out[4][l], out[5][l]);
-        const std::uint32_t body = walls_[q.wall[l]].body;
-        const AngVec t = D::cross(q.arm[l], f);
-        acc.body_force[body] -= f;
-        acc.body_torque[body] -= t;
-        acc.wall_force[q.wall[l]] -= f;
-        acc.wall_torque[q.wall[l]] -= t;
-      }
-      acc.contacts += n;
-      q.count = 0;
-    }
-  }
-
-  // The doubles of a vector of small vectors, for the packed passes' raw-pointer inputs; null when
-  // there are no particles (a scene of walls and bodies alone), where data()->data() would be a
-  // member access through a null pointer.
-  template <class V>
-  static const double* scalars(const std::vector<V>& v) {
-    if constexpr (std::is_same_v<V, double>) {
-      return v.empty() ? nullptr : v.data();
-    } else {
-      return v.empty() ? nullptr : v.front().data();
-    }
-  }
-
-  // Asks the caches for the particle data that layer l's packs gather and scatter (velocities,
-  // angular velocities, inverse masses, forces and torques of layers l and l + 1): 104 B per
-  // particle, 1 000-6 000 cache lines a layer in the 100k beds, about 3 prefetch instructions
-  // per particle-step. When the bed outgrows the L3 cache (100k particles, ~50 MB) these lines
-  // come from memory, and the packs' own loads, spread over many arrays, left the hardware
-  // prefetchers behind: +3-5 % on the 100k beds, no change at 20k (docs/performance.md, "Beds
-  // larger than the cache"). Positions and radii are left to the touch scan, which reads them
-  // first and in order.
-  void prefetch_layer_pair(std::size_t l) const {
-    const auto& p = particles_;
-    const std::size_t last = list_.layer_begin.size() - 1;
-    const std::size_t a = list_.layer_begin[l], b = list_.layer_begin[std::min(l + 2, last)];
-    if (a == b) return;
-    // (64-byte lines; __builtin_prefetch(address, 1 = for a write, 2 = keep in L2 and L3).)
-    const auto lines = [a, b](const auto* base, auto for_write) {
-      const char* c = reinterpret_cast<const char*>(base + a);
-      const char* const end = reinterpret_cast<const char*>(base + b);
-      for (; c < end; c += 64) __builtin_prefetch(c, decltype(for_write)::value, 2);
-    };
-    lines(p.v.data(), std::false_type{});
-    lines(p.omega.data(), std::false_type{});
-    lines(p.inv_mass.data(), std::false_type{});
-    lines(p.f.data(), std::true_type{});
-    lines(p.torque.data(), std::true_type{});
-  }
-
-  // process_layer<false> with the particle pairs evaluated W at a time (contact/packed.hpp);
-  // the wall contacts are found one at a time and their law runs W at a time. Pass 1 lists the
-  // layer's touching entries without a branch
-  // (which pair touches is unpredictable: a third do not) and moves history slots (a pair that
-  // starts touching takes one, one that separates gives it back); then the touching pairs go
-  // through chunks. A chunk holds pairs of one parameter set: a change of material pair flushes
-  // it; the packs read the particles' data from the store themselves (core/lane_transpose.hpp).
-  // (When the chunk still held copies of that data, copying every entry in pass 1, so that only
-  // the count depended on the touch, was 5-12 % slower: the copy was bound by its stores.)
-  GRANULE_FLATTEN void process_layer_packed(std::size_t l) {
-    if constexpr (kPackable) {
-      using Chunk = contact::PairChunk<64, D::dim>;
-      auto& p = particles_;
-      auto& acc = layer_acc_[l];
-      const std::size_t r0 = list_.layer_begin[l], r1 = list_.layer_begin[l + 1];
-      const std::size_t entries = list_.row_begin[r1] - list_.row_begin[r0];
-      prefetch_layer_pair(l);
-#ifdef _OPENMP
-      PairWork& work = pair_work_[static_cast<std::size_t>(omp_get_thread_num())];
-#else
-      PairWork& work = pair_work_[0];
-#endif
-      // (8 entries of room for the packed scan's full-width stores.)
-      work.entries.resize(entries + 8);
-      work.rows.resize(entries + 8);
-      std::uint32_t* const sorted = work.entries.data();
-      std::uint32_t* const rows = work.rows.data();
-      const contact::TouchScanInput scan{scalars(p.x), p.radius.data(), list_.row_begin.data(),
-                                         list_.nbr.data(), kHasState ? list_.slot.data() : nullptr, List::kNone};
-      // (Slots are taken and given back in entry order, so they do not depend on threads.)
-      const std::size_t nt = contact::scan_rows<D::dim>(scan, static_cast<std::uint32_t>(r0), static_cast<std::uint32_t>(r1),
-                                                sorted, rows, [&](std::uint32_t e, bool touch) {
-                                                  if constexpr (kHasState) {
-                                                    if (touch) {
-                                                      list_.acquire(l, e);
-                                                    } else {
-                                                      list_.drop(l, e);
-                                                    }
-                                                  }
-                                                });
-      Chunk chunk;
-      for (std::size_t k = 0; k < nt;) {
-        k = fill_chunk(chunk, sorted, rows, k, nt);
-        evaluate_chunk(chunk, acc, l);
-      }
-      if constexpr (D::dim == 3) {
-        WallQueue walls;
-        queue_wall_contacts(r0, r1, acc, walls);
-        flush_wall_queue(walls, acc);
-      } else {
-        wall_contacts_by_entry(r0, r1, acc);
-      }
-    }
-  }
-
-  // The wall contacts of rows r0..r1 one at a time, in entry order (2D: a disk bed has few wall
-  // contacts, and the packed wall law is written for 3D geometries, contact::GeometryLanes).
-  void wall_contacts_by_entry(std::size_t r0, std::size_t r1, LayerAccumulator& acc) {
-    auto& p = particles_;
-    std::uint32_t row = 0;
-    const auto use = [&](const contact::ContactGeometry<D>& g, State* state, std::size_t prm, std::uint32_t wall,
-                         const geometry::SurfacePoint<D>& sp) {
-      const std::uint32_t body = walls_[wall].body;
-      State tmp{};
-      const contact::ContactForce<D> cf = Model::evaluate(params_[prm], g, state != nullptr ? *state : tmp);
-      p.f[row] += cf.force;
-      p.torque[row] += cf.torque_i;
-      const AngVec t = D::cross(Vec(sp.point - bodies_[body].pose.translation()), cf.force);
-      acc.body_force[body] -= cf.force;
-      acc.body_torque[body] -= t;
-      acc.wall_force[wall] -= cf.force;
-      acc.wall_torque[wall] -= t;
-      ++acc.contacts;
-    };
-    const std::uint32_t e1 = list_.wall_begin[r1];
-    for (std::uint32_t e = list_.wall_begin[r0]; e < e1; ++e) {
-      row = list_.wall_row[e];
-      wall_entry_contacts(row, e, acc, use);
-    }
-  }
-
-  // Lists touching pairs k, k+1, ... of the layer (entries `touching`, their rows `rows`) in
-  // the chunk until it is full or the material pair changes; returns the first pair not listed.
-  // (A local count and plain stores: with chunk.count incremented in memory GCC reloaded it for
-  // every store.)
-  template <class Chunk>
-  std::size_t fill_chunk(Chunk& chunk, const std::uint32_t* touching, const std::uint32_t* rows,
-                         std::size_t k, std::size_t nt) const {
-    const auto& p = particles_;
-    const std::size_t nm = materials_.size();
-    const std::size_t prm = p.material[rows[k]] * nm + p.material[list_.nbr[touching[k]]];
-    std::size_t c = 0;
-    // With one particle material (step() knows) no pair's material need be read.
-    const auto list = [&](auto check_material) {
-      for (; k < nt && c < Chunk::capacity; ++k, ++c) {
-        const std::uint32_t e = touching[k], j = list_.nbr[e];
-        const std::uint32_t i = rows[k];
-        if constexpr (decltype(check_material)::value) {
-          if (p.material[i] * nm + p.material[j] != prm) break;
-        }
-        chunk.i[c] = i;
-        chunk.j[c] = j;
-        chunk.history[c] = kHasState ? list_.slot[e] : 0u;  // (no slots without history)
-      }
-    };
-    if (one_material_) {
-      list(std::false_type{});
-    } else {
-      list(std::true_type{});
-    }
-    chunk.count = c;
-    chunk.params = prm;
-    return k;
-  }
-
-  // Passes 2 and 3 of the packed pair loop (contact/packed.hpp) for one chunk; empties it.
-  template <class Chunk>
-  void evaluate_chunk(Chunk& chunk, LayerAccumulator& acc, std::size_t l) {
-    using LD = LanesOf<D>;
-    using PackedState = typename Model::template State<LD>;
-    auto& p = particles_;
-    const std::size_t n = p.owned();
-    const Params& prm = params_[chunk.params];
-    const double dt = setup_evaluation_ ? 0.0 : config_.dt;
-    const double max_ratio = config_.max_overlap_ratio;
-    chunk.pad();
-    static_assert(sizeof(Vec) == D::dim * sizeof(double) && sizeof(AngVec) == D::rot_dim * sizeof(double));
-    const contact::PackedParticles pp{scalars(p.x), scalars(p.v), scalars(p.omega),
-                                      p.radius.data(), p.inv_mass.data()};
-    contact::ContactGeometry<LD> g;
-    for (std::size_t k = 0; k < chunk.count; k += lane_width) {
-      const std::size_t valid = std::min(lane_width, chunk.count - k);
-      chunk.template geometry<Model::needs_rolling_inertia, Model::needs_twist>(k, pp, dt, g);
-      const LaneMask deep = g.overlap > max_ratio * stdx::min(g.r_i, g.r_j);
-      if (stdx::any_of(deep) && acc.bad_row == std::numeric_limits<std::size_t>::max()) {
-        const std::size_t b = static_cast<std::size_t>(stdx::find_first_set(deep));
-        if (b < valid) {
-          const std::uint32_t j = chunk.j[k + b];
-          acc.bad_row = chunk.i[k + b];
-          acc.bad_partner = j < n ? j : p.ghost_owner[j - n];
-          acc.bad_overlap = g.overlap[b];
-          acc.bad_wall = false;
-        }
-      }
-      PackedState s{};
-      State* slots[lane_width];
-      if constexpr (kHasState) {
-        State* const pool = list_.pools[l].states.data();
-        for (std::size_t q = 0; q < lane_width; ++q) slots[q] = pool + chunk.history[k + q];
-        contact::PackedState<State, PackedState>::load(s, slots);
-      }
-      const contact::ContactForce<LD> cf = Model::evaluate(prm, g, s);
-      if constexpr (kHasState) contact::PackedState<State, PackedState>::store(s, slots, valid);
-      chunk.store_force(k, cf);
-    }
-    // Pass 3, in entry order. (Keeping a row's sum in a register and writing it once per run
-    // of equal i was 5 % slower in scene B: the run ends are unpredictable branches.)
-    // (Raw pointers: through the vectors GCC reloaded their data pointers after every store.)
-    Vec* const force = p.f.data();
-    AngVec* const torque = p.torque.data();
-    const auto& out = chunk.out;
-    constexpr std::size_t fx = Chunk::fx, tix = Chunk::tix, tjx = Chunk::tjx;
-    for (std::size_t c = 0; c < chunk.count; ++c) {
-      const std::uint32_t i = chunk.i[c], j = chunk.j[c];
-      if constexpr (D::dim == 3) {
-        const Vec f(out[fx][c], out[fx + 1][c], out[fx + 2][c]);
-        force[i] += f;
-        force[j] -= f;
-        torque[i] += AngVec(out[tix][c], out[tix + 1][c], out[tix + 2][c]);
-        torque[j] += AngVec(out[tjx][c], out[tjx + 1][c], out[tjx + 2][c]);
-      } else {
-        const Vec f(out[fx][c], out[fx + 1][c]);
-        force[i] += f;
-        force[j] -= f;
-        torque[i] += out[tix][c];
-        torque[j] += out[tjx][c];
-      }
-    }
-    acc.contacts += chunk.count;
-    chunk.count = 0;
-  }
+  // The wall contacts of rows r0..r1 one at a time, in entry order.
+  void wall_contacts_by_entry(std::size_t r0, std::size_t r1, LayerAccumulator& acc);
 
   // Touch marks for wall history entries (one bit per entry, owned by the entry's row).
   void touched_mark(std::uint32_t k) { wall_touched_[k] = 1; }
-  bool touched_take(std::uint32_t k) {
-    if (k >= wall_touched_.size()) return false;
-    const bool t = wall_touched_[k] != 0;
-    wall_touched_[k] = 0;
-    return t;
-  }
+  bool touched_take(std::uint32_t k);
 
+  // ---- data (every part works on these members directly) ----
   SimulationConfig<D> config_;
   MaterialTable materials_;
   std::vector<bool> wall_material_;
@@ -2151,3 +700,13 @@ class Simulation {
 };
 
 }  // namespace granule
+
+// The parts' member definitions (docs/architecture.md, "Simulation in parts").
+#include "granule/simulation/time_step.hpp"
+#include "granule/simulation/state_io.hpp"
+#include "granule/simulation/contact_geometry.hpp"
+#include "granule/simulation/wall_pass.hpp"
+#include "granule/simulation/pair_pass.hpp"
+#include "granule/simulation/setup.hpp"
+#include "granule/simulation/observables.hpp"
+#include "granule/simulation/upkeep.hpp"
