@@ -24,7 +24,7 @@ usage: ./granule.sh <command> [arguments]
   build [dir] [cmake args...]  configure (Release) and build in dir (default: build/)
   test [ctest args...]         deps + build in build/ + ctest --output-on-failure -j2
   test-sanitize [ctest args...]
-                               deps + build with ASan/UBSan (-O1 -g1) in build-sanitize/ + ctest
+                               deps + build with ASan/UBSan (-Og -g1) in build-sanitize/ + ctest
   run [example args...]        deps + build + run the main example ($MAIN_EXAMPLE) in out/<name>/
                                and draw its figures with its plot.py
   bench [benchmark args...]    deps + build with benchmarks and -march=native in build-bench/,
@@ -117,9 +117,11 @@ cmd_test_sanitize() {
   cmd_deps
   # -g1 (line tables only): the sanitizers' reports keep file and line, and the build is about a
   # third faster than with -g (test_restitution.cpp: 160 s -> 107 s, objects 95 MB -> 35 MB).
+  # -Og instead of -O1: test_packed_contacts.cpp + test_history_rebuild.cpp compiled in 116 s of
+  # CPU instead of 266 s, and their tests ran in 122 s instead of 119 s (2026-12-07).
   local start=$SECONDS
   configure_and_build "$ROOT/build-sanitize" -DGRANULE_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug \
-    "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" -DGRANULE_BUILD_EXAMPLES=OFF
+    "-DCMAKE_CXX_FLAGS_DEBUG=-Og -g1" -DGRANULE_BUILD_EXAMPLES=OFF
   say "build-sanitize/ configured and built in $((SECONDS - start)) s"
   start=$SECONDS
   ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1}" \
