@@ -20,3 +20,14 @@ def read_table(path):
                 d[n] = v
         out.append(d)
     return out
+
+
+def read_text_table(path):
+    """(provenance, rows): the first "# ..." line without its "# " ("provenance unknown" if the
+    file has none), and the rows as dicts of text keyed by the column name without its unit."""
+    with open(path, newline="", encoding="utf-8") as f:
+        lines = f.read().splitlines()
+    prov = lines[0].lstrip("# ").strip() if lines and lines[0].startswith("#") else "provenance unknown"
+    rows = list(csv.reader(line for line in lines if not line.startswith("#")))
+    names = [h.split(" [")[0] for h in rows[0]]
+    return prov, [dict(zip(names, r)) for r in rows[1:]]

@@ -18,14 +18,10 @@
 # run only those).
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-ROOT="$(cd "$HERE/../.." && pwd)"
-BUILD="$ROOT/build-native"
+source "$HERE/../common/study_build.sh"
+study_build intruder_pull_out_2d
 OUT="$ROOT/out/intruder_pull_out_2d_study"
 RES="$HERE/results"
-"$ROOT/granule.sh" deps
-cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DGRANULE_NATIVE=ON -DGRANULE_BUILD_TESTS=OFF >/dev/null
-cmake --build "$BUILD" --parallel 2 --target intruder_pull_out_2d
-EXE="$BUILD/examples/intruder_pull_out_2d"
 mkdir -p "$OUT"
 
 run() {

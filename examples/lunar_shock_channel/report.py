@@ -22,6 +22,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 from readme_blocks import render  # noqa: E402
+from result_csv import read_text_table  # noqa: E402
 
 RESULTS = os.path.join(HERE, "results", "validation")
 STUDY = os.path.join(HERE, "results")
@@ -30,13 +31,7 @@ README = os.path.join(HERE, "README.md")
 
 def read(name):
     """(provenance line, rows as dicts keyed by the column name without its unit)."""
-    with open(os.path.join(RESULTS, name), newline="") as f:
-        lines = f.read().splitlines()
-    prov = lines[0].lstrip("# ").strip() if lines and lines[0].startswith("#") else "provenance unknown"
-    body = [l for l in lines if not l.startswith("#")]
-    rows = list(csv.reader(body))
-    names = [h.split(" [")[0] for h in rows[0]]
-    return prov, [dict(zip(names, r)) for r in rows[1:]]
+    return read_text_table(os.path.join(RESULTS, name))
 
 
 def g(x, digits=4):
@@ -259,13 +254,7 @@ def cost_file(name):
     path = os.path.join(STUDY, "cost", name)
     if not os.path.exists(path):
         return None, []
-    with open(path, newline="") as f:
-        lines = f.read().splitlines()
-    prov = lines[0].lstrip("# ").strip() if lines and lines[0].startswith("#") else "provenance unknown"
-    body = [l for l in lines if not l.startswith("#")]
-    rows = list(csv.reader(body))
-    names = [h.split(" [")[0] for h in rows[0]]
-    return prov, [dict(zip(names, r)) for r in rows[1:]]
+    return read_text_table(path)
 
 
 def hms(s):

@@ -14,14 +14,10 @@
 # Environment: THREADS (default 2).
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-ROOT="$(cd "$HERE/../.." && pwd)"
-BUILD="$ROOT/build-native"
+source "$HERE/../common/study_build.sh"
+study_build lunar_shock_channel
 OUT="$ROOT/out/lunar_shock_channel"
 RES="$HERE/results"
-"$ROOT/granule.sh" deps
-cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DGRANULE_NATIVE=ON -DGRANULE_BUILD_TESTS=OFF >/dev/null
-cmake --build "$BUILD" --parallel 2 --target lunar_shock_channel
-EXE="$BUILD/examples/lunar_shock_channel"
 mkdir -p "$OUT"
 
 if [[ "${1:-}" == "--list" ]]; then

@@ -16,14 +16,10 @@
 # Environment: THREADS (default 2).
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-ROOT="$(cd "$HERE/../.." && pwd)"
-BUILD="$ROOT/build-native"
+source "$HERE/../common/study_build.sh"
+study_build two_rod_intrusion
 OUT="$ROOT/out/two_rod_study"
 RES="$HERE/results"
-"$ROOT/granule.sh" deps
-cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DGRANULE_NATIVE=ON -DGRANULE_BUILD_TESTS=OFF >/dev/null
-cmake --build "$BUILD" --parallel 2 --target two_rod_intrusion
-EXE="$BUILD/examples/two_rod_intrusion"
 mkdir -p "$OUT"
 
 run() {
