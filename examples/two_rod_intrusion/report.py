@@ -308,6 +308,7 @@ def blocks(studies):
         "work-square": table_work(sq, "square"),
         "work-cylinder": table_work(cy, "cylinder"),
         "work-square-13": table_work(by.get("box13", {"gaps": {}, "peak": {}}), "square"),
+        "work-square-25": table_work(by.get("box25", {"gaps": {}, "peak": {}}), "square"),
         "box-check": table_box(studies),
         "cost": table_cost(studies),
     }
