@@ -18,6 +18,7 @@
 // declarations of its parts. The parts' definitions are in granule/simulation/, one file each,
 // included at the end (docs/architecture.md, "Simulation in parts"):
 //   setup.hpp             materials, particles, bodies, walls, groups, observers
+//   integrate.hpp         the step's particle passes: first kick and drift, second kick
 //   upkeep.hpp            the first list and forces, rebuilds, ghosts, the instability stops
 //   time_step.hpp         critical time, rolling stability limit, the dt checks
 //   contact_geometry.hpp  pair and wall contact geometry, tensile reach, the read-only walk
@@ -56,6 +57,7 @@
 #include "granule/neighbours/policies.hpp"
 #include "granule/particles/particle_store.hpp"
 #include "granule/simulation/config.hpp"
+#include "granule/simulation/force_work.hpp"
 
 // The pair loop is fully inlined in optimised builds: GCC otherwise keeps the tangential law
 // out of line and every ContactGeometry goes through memory (docs/performance.md, "The pair loop
@@ -82,18 +84,8 @@ class Simulation {
   using IntegratorPolicy = Integrator;
   using Dimension = D;
   static constexpr bool kHasState = Model::template has_state<D>;
-  /// The tangential law reports its spring-dashpot (coupling rotation and translation).
-  static constexpr bool kTangentialDashpot = requires(const typename Model::TangentialLaw::Params& t,
-                                                       const contact::ContactGeometry<D>& g,
-                                                       const contact::NormalResult& nr) {
-    Model::TangentialLaw::spring_dashpot(t, g, nr);
-  };
-  /// The rolling law has a rotational spring-dashpot whose stability limits dt (EPSD).
-  static constexpr bool kRollingDashpot = requires(const typename Model::RollingLaw::Params& r,
-                                                    const contact::ContactGeometry<D>& g,
-                                                    const contact::NormalResult& nr) {
-    Model::RollingLaw::spring_dashpot(r, g, nr);
-  };
+  static constexpr bool kTangentialDashpot = Model::template tangential_dashpot<D>;
+  static constexpr bool kRollingDashpot = Model::template rolling_dashpot<D>;
   /// Dashpots act on a predicted end-of-step velocity (integrators/predicted_damping.hpp).
   static constexpr bool kPredictDamping = integrators::predicts_damping_velocity<Integrator>();
   using List = neighbours::PairList<D, State, kHasState>;
@@ -105,20 +97,9 @@ class Simulation {
   static constexpr std::size_t kParallelMinParticles = 2048;
 
   explicit Simulation(const SimulationConfig<D>& config) : config_(config) {
-    config_.domain.validate();
-    const std::string where = "SimulationConfig";
-    require(config_.dt > 0.0 && std::isfinite(config_.dt), where, "dt", config_.dt, "(0, inf) s");
-    require(config_.thickness > 0.0 && std::isfinite(config_.thickness), where, "thickness",
-            config_.thickness, "(0, inf) m");
-    require(config_.time_step_safety > 0.0 && config_.time_step_safety <= 1.0, where,
-            "time_step_safety", config_.time_step_safety, "(0, 1]");
-    require(config_.max_overlap_ratio > 0.0 && config_.max_overlap_ratio <= 1.0, where,
-            "max_overlap_ratio", config_.max_overlap_ratio, "(0, 1]");
-    for (int k = 0; k < D::dim; ++k)
-      require(std::isfinite(config_.gravity[k]), where, "gravity[" + std::to_string(k) + "]",
-              config_.gravity[k], "finite");
+    config_.validate();
     if (Search::rebuild_every_step) {
-      require(config_.skin <= 0.0, where, "skin", config_.skin,
+      require(config_.skin <= 0.0, "SimulationConfig", "skin", config_.skin,
               std::string("(-inf, 0] for ") + Search::name + " (rebuilt every step)");
     }
     bodies_.push_back(Body<D>{});
@@ -163,13 +144,13 @@ class Simulation {
   void set_wall_active(std::uint32_t w, bool active);
 
   /// Particles of `group` never move (e.g. the rough frozen floor of paper 001).
-  void freeze_group(std::uint32_t group);
+  void freeze_group(std::uint32_t group) { set_group_motion(group, Motion::Frozen, nullptr); }
 
   /// Particles of `group` move with velocity v(t) whatever the forces (virtual piston, shaker).
   void prescribe_group_velocity(std::uint32_t group, std::function<Vec(double)> velocity);
 
   /// Particles of `group` move freely again.
-  void release_group(std::uint32_t group);
+  void release_group(std::uint32_t group) { set_group_motion(group, Motion::Free, nullptr); }
 
   /// Moves particles to another group (and motion mode) by predicate on (slot).
   template <class Pred>
@@ -200,62 +181,17 @@ class Simulation {
 
   /// One velocity-Verlet step.
   void step() {
-    if (!list_valid_) {
-      initialise();
-    } else if (!initialised_) {
-      // Only the time step changed (set_dt): check it, keep the list and forces as they are so
-      // the trajectory is not perturbed by an extra rebuild.
-      check_time_step();
-      check_rolling_time_step();
-      initialised_ = true;
-    }
+    start_if_needed();
     const double dt = config_.dt;
-    const double half = 0.5 * dt;
-    const double kick1 = Integrator::first_kick * dt;
-    const double kick2 = Integrator::second_kick * dt;
-    const std::size_t n = particles_.owned();
-    update_group_velocities(time_ + half);
-    auto& p = particles_;
-    // One pass: first kick and drift, the force reset of compute_forces (this step's forces
-    // start from gravity) and the particles' rebuild test. (The predicted-damping
-    // integrator needs the old forces in compute_forces: it resets them there.)
-    constexpr bool reset_here = !kPredictDamping;
-    const double lim = list_.rebuild_distance(skin_used_), lim2 = lim * lim;
-    const bool test_moves = !Search::rebuild_every_step && list_.x_at_build.size() == n;
-    int moved = 0;
-    // The range of particle materials: with one material the packed loop need not look up
-    // each pair's (ghosts carry their owners' material).
-    std::uint32_t mat_lo = std::numeric_limits<std::uint32_t>::max(), mat_hi = 0;
-#pragma omp parallel for schedule(static) reduction(| : moved) reduction(min : mat_lo) reduction(max : mat_hi) if (parallel_)
-    for (std::size_t i = 0; i < n; ++i) {
-      mat_lo = std::min(mat_lo, p.material[i]);
-      mat_hi = std::max(mat_hi, p.material[i]);
-      switch (p.motion[i]) {
-        case Motion::Free:
-          p.v[i] += kick1 * p.inv_mass[i] * p.f[i];
-          p.omega[i] += (kick1 * p.inv_inertia[i]) * p.torque[i];
-          p.x[i] += dt * p.v[i];
-          if constexpr (reset_here) p.f[i] = p.mass[i] * config_.gravity;
-          break;
-        case Motion::Prescribed:
-          p.v[i] = group_v_now_[p.group[i]];
-          p.x[i] += dt * p.v[i];
-          if constexpr (reset_here) p.f[i].setZero();
-          break;
-        case Motion::Frozen:
-          if constexpr (reset_here) p.f[i].setZero();
-          break;
-      }
-      if constexpr (reset_here) p.torque[i] = D::zero_ang();
-      if (test_moves) moved |= (p.x[i] - list_.x_at_build[i].template cast<double>()).squaredNorm() > lim2;
-    }
+    update_group_velocities(time_ + 0.5 * dt);
+    const Drift drift = kick_and_drift(dt);
     for (auto& b : bodies_) b.advance(time_, dt);
     ++step_;
     // The product, not a running sum: no rounding accumulates (20 000 steps of 5e-6 s give
     // 0.1 s, where adding dt gave 0.10000000000002962 s).
     time_ = time_origin_ + static_cast<double>(step_ - step_origin_) * dt;
     const bool record = contacts_wanted(step_);
-    if (!test_moves || moved != 0 || body_needs_rebuild()) {
+    if (drift.list_stale || body_needs_rebuild()) {
       rebuild();
     } else {
       refresh_ghosts();
@@ -266,31 +202,14 @@ class Simulation {
         bool& flag;
         ~Clear() { flag = false; }
       } clear{one_material_};
-      one_material_ = n > 0 && mat_lo == mat_hi;
-      compute_forces(record, /*owned_reset=*/reset_here, /*check_finite=*/false);
+      one_material_ = drift.one_material;
+      compute_forces(record, /*owned_reset=*/kResetInDrift, /*check_finite=*/false);
     }
     update_group_velocities(time_);
-    // Second kick, with compute_forces' finiteness test: a particle that fails it keeps its
-    // velocity and stops the run below.
-    std::size_t bad = std::numeric_limits<std::size_t>::max();
-#pragma omp parallel for schedule(static) reduction(min : bad) if (parallel_)
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!finite_state(i)) {
-        bad = std::min(bad, i);
-        continue;
-      }
-      if (p.motion[i] == Motion::Free) {
-        p.v[i] += kick2 * p.inv_mass[i] * p.f[i];
-        p.omega[i] += (kick2 * p.inv_inertia[i]) * p.torque[i];
-      } else if (p.motion[i] == Motion::Prescribed) {
-        p.v[i] = group_v_now_[p.group[i]];
-      }
-    }
-    if (bad != std::numeric_limits<std::size_t>::max())
-      throw_instability(bad, "its force, torque, position or velocity is not finite");
+    second_kick(dt);
     for (auto& b : bodies_) {
       // Work of the drive against the particles over this step (rectangle rule at step end).
-      b.work -= (b.force.dot(b.current_velocity) + ang_dot(b.torque, b.current_angular_velocity)) * dt;
+      b.work -= (b.force.dot(b.current_velocity) + D::dot(b.torque, b.current_angular_velocity)) * dt;
     }
     if (config_.check_rolling_stability && config_.stability_check_interval > 0 &&
         step_ % config_.stability_check_interval == 0)
@@ -386,29 +305,13 @@ class Simulation {
   };
   /// Stability limit of the rotations under the rolling spring-dashpots (EPSD) in the contacts
   /// of the last force evaluation (infinite for models without them, or before the first step).
-  /// Rotations obey I theta'' = -K theta - C theta' - (coupling to translation through the
-  /// tangential spring); K and C are assembled from the contacts' k_r, C_r on the relative
-  /// rotation and k_t, gamma_t on the slip at the contact point. For every free particle i,
-  /// Gershgorin's theorem on M^-1/2 K M^-1/2 (and C) bounds the largest rate of its rotation rows:
-  ///   w_i^2 = sum_c [ k_r (a_i + sqrt(a_i a_j)) + k_t l_i (l_i a_i + l_j sqrt(a_i a_j)
-  ///                   + sqrt(a_i b_i) + sqrt(a_i b_j)) ]
-  /// with a = 1/I, b = 1/m (0 for a wall or a partner that is not free) and l the lever arms;
-  /// 2 zeta_i w_i the same sum with C_r, gamma_t. The limit is the smallest
-  /// damped_oscillator_stability_limit(w_i, zeta_i): dt^2 w^2 / 4 + dt zeta w <= 1, sufficient
-  /// for K and C that are not proportional. docs/physics.md, "Time step", gives how far it is
-  /// below the measured onsets of instability (one contact, a settled bed).
+  /// How: Gershgorin's bound on the rotation rows (simulation/time_step.hpp); docs/physics.md,
+  /// "Time step", gives how far it is below the measured onsets of instability.
   RollingLimit rolling_stability_limit() const;
 
-  /// The rotational limit before any contact exists (check_rolling_time_step at the first step
-  /// when rolling_stability_limit() has no contacts yet), for models with a rolling
-  /// spring-dashpot under gravity: one contact of the smallest particle of each particle
-  /// material against every material it can touch (a wall, or the smallest particle of another
-  /// particle material), at the overlap where its normal law carries the particle's weight m |g|,
-  /// with the rolling terms of rolling_stability_limit()'s row alone (w^2 = K (a_i + sqrt(a_i a_j)),
-  /// 2 zeta w the same with C). Leaving out the tangential terms and the other contacts makes it
-  /// an upper bound of rolling_stability_limit() at that contact: a step above it is refused
-  /// surely (a particle at rest on anything carries at least its weight), one below it is
-  /// checked again once the contacts exist.
+  /// The rotational limit before any contact exists (checked at the first step, when
+  /// rolling_stability_limit() has no contacts yet): an upper bound of it for one contact per
+  /// pair of materials, loaded by the particle's weight (simulation/time_step.hpp).
   struct RollingEstimate {
     double limit = std::numeric_limits<double>::infinity();  ///< [s]
     std::uint32_t material = 0, partner = 0;  ///< the pair of materials that sets it
@@ -463,38 +366,10 @@ class Simulation {
     bool needs_contacts;
   };
 
-  // Per-layer accumulators of one force evaluation (summed in layer order afterwards).
-  struct LayerAccumulator {
-    std::size_t contacts = 0;
-    std::size_t bad_row = std::numeric_limits<std::size_t>::max();
-    std::size_t bad_partner = 0;
-    double bad_overlap = 0.0;
-    bool bad_wall = false;
-    std::size_t missing_wall_features = 0;
-    std::vector<Vec> body_force;
-    std::vector<AngVec> body_torque;
-    std::vector<Vec> wall_force;  // beside body_force: the same contacts, per wall
-    std::vector<AngVec> wall_torque;
-    std::vector<analysis::ContactRecord<D>> records;
-  };
-
-  // Work arrays of the packed pair loop, one per thread (process_layer_packed): the layer's
-  // list entries that touch and the row of each.
-  struct PairWork {
-    std::vector<std::uint32_t> entries, rows;
-  };
-
-  // Wall contacts queued for the packed law (process_layer_packed): W at a time, one parameter
-  // set per pack.
-  struct WallQueue {
-    contact::GeometryLanes lanes;
-    State* state[lane_width];
-    State scratch[lane_width];  ///< histories of contacts without a slot (dropped after the law)
-    std::uint32_t i[lane_width], wall[lane_width];
-    Vec arm[lane_width];  ///< contact point - body origin
-    std::size_t count = 0;
-    std::size_t params = 0;
-  };
+  // The work of one force evaluation (simulation/force_work.hpp).
+  using LayerAccumulator = simulation_parts::LayerAccumulator<D>;
+  using PairWork = simulation_parts::PairWork;
+  using WallQueue = simulation_parts::WallQueue<D, State>;
 
   // ---- set-up (simulation/setup.hpp) ----
   // A particle wider than the domain along a bounded axis, or one that an active wall
@@ -508,25 +383,32 @@ class Simulation {
 
   void group_mode_resize(std::uint32_t group);
 
+  // Every particle of `group` takes motion `mode` (velocity: v(t) of a prescribed group).
+  void set_group_motion(std::uint32_t group, Motion mode, std::function<Vec(double)> velocity);
+
   void apply_group_motion(std::size_t i);
 
   void update_group_velocities(double t);
 
-  static double component(const AngVec& w, int k) {
-    if constexpr (D::dim == 2) {
-      return w;
-    } else {
-      return w[k];
-    }
-  }
+  // ---- the step's particle passes (simulation/integrate.hpp) ----
+  // The first kick and drift reset the forces to gravity on the way (velocity Verlet-type
+  // integrators; the predicted-damping one needs the old forces in compute_forces, which resets
+  // them there).
+  static constexpr bool kResetInDrift = !kPredictDamping;
 
-  static double ang_dot(const AngVec& a, const AngVec& b) {
-    if constexpr (D::dim == 2) {
-      return a * b;
-    } else {
-      return a.dot(b);
-    }
-  }
+  struct Drift {
+    bool list_stale = false;    ///< a particle moved past the rebuild distance (or no test)
+    bool one_material = false;  ///< every particle has the same material
+  };
+
+  // First kick and drift of every owned particle, with the force reset and the rebuild test.
+  Drift kick_and_drift(double dt);
+
+  // Second kick; stops the run at the first particle whose state is not finite.
+  void second_kick(double dt);
+
+  // The first step builds the list and forces; a step after set_dt checks the new step.
+  void start_if_needed();
 
   // ---- the step's upkeep: first list and forces, rebuilds, ghosts, stops (simulation/upkeep.hpp) ----
   double effective_skin() const;
@@ -710,3 +592,4 @@ class Simulation {
 #include "granule/simulation/setup.hpp"
 #include "granule/simulation/observables.hpp"
 #include "granule/simulation/upkeep.hpp"
+#include "granule/simulation/integrate.hpp"

@@ -121,6 +121,19 @@ struct ContactModel {
   /// True when contacts carry history (the neighbour list then stores one State per entry).
   template <class D>
   static constexpr bool has_state = !std::is_empty_v<State<D>>;
+  /// True when the tangential law reports its spring-dashpot (coupling rotation and
+  /// translation in the rolling stability limit).
+  template <class D>
+  static constexpr bool tangential_dashpot =
+      requires(const typename Tangential::Params& t, const ContactGeometry<D>& g, const NormalResult& nr) {
+        Tangential::spring_dashpot(t, g, nr);
+      };
+  /// True when the rolling law has a rotational spring-dashpot whose stability limits dt (EPSD).
+  template <class D>
+  static constexpr bool rolling_dashpot =
+      requires(const typename Rolling::Params& r, const ContactGeometry<D>& g, const NormalResult& nr) {
+        Rolling::spring_dashpot(r, g, nr);
+      };
   static constexpr bool needs_rolling_inertia = Rolling::needs_inertia;
   /// True when a law turns its history about n (3D: ContactGeometry::twist must be filled).
   static constexpr bool needs_twist = detail::needs_twist<Tangential>() || detail::needs_twist<Rolling>();

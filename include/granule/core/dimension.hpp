@@ -41,6 +41,9 @@ struct Dim<2> {
   static bool all_finite(AngVec w) { return std::isfinite(w); }
   /// Component of an angular vector along the contact normal (zero in 2D: no twisting).
   static AngVec along(AngVec, const Vec&) { return 0.0; }
+  /// Component k of an angular vector (the scalar itself in 2D).
+  static double component(AngVec w, int /*k*/) { return w; }
+  static double dot(AngVec a, AngVec b) { return a * b; }
 };
 
 template <>
@@ -63,6 +66,8 @@ struct Dim<3> {
   static double squared_norm(const AngVec& w) { return w.squaredNorm(); }
   static bool all_finite(const AngVec& w) { return w.allFinite(); }
   static AngVec along(const AngVec& w, const Vec& n) { return w.dot(n) * n; }
+  static double component(const AngVec& w, int k) { return w[k]; }
+  static double dot(const AngVec& a, const AngVec& b) { return a.dot(b); }
 };
 
 using Dim2 = Dim<2>;

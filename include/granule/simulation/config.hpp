@@ -1,8 +1,11 @@
 #pragma once
 // SimulationConfig: what a Simulation is built with (domain, gravity, dt, skin, and the
 // checks' settings). Included by granule/simulation.hpp, the header to include.
+#include <cmath>
 #include <cstdint>
+#include <string>
 
+#include "granule/core/error.hpp"
 #include "granule/neighbours/domain.hpp"
 
 namespace granule {
@@ -33,6 +36,20 @@ struct SimulationConfig {
   /// contacts"). The results agree with the one-at-a-time loop to rounding; false selects that
   /// loop (tests compare the two).
   bool packed_contacts = true;
+
+  /// Refuses a configuration no run can start from, naming the field and its valid range.
+  void validate() const {
+    domain.validate();
+    const std::string where = "SimulationConfig";
+    require(dt > 0.0 && std::isfinite(dt), where, "dt", dt, "(0, inf) s");
+    require(thickness > 0.0 && std::isfinite(thickness), where, "thickness", thickness, "(0, inf) m");
+    require(time_step_safety > 0.0 && time_step_safety <= 1.0, where, "time_step_safety", time_step_safety,
+            "(0, 1]");
+    require(max_overlap_ratio > 0.0 && max_overlap_ratio <= 1.0, where, "max_overlap_ratio",
+            max_overlap_ratio, "(0, 1]");
+    for (int k = 0; k < D::dim; ++k)
+      require(std::isfinite(gravity[k]), where, "gravity[" + std::to_string(k) + "]", gravity[k], "finite");
+  }
 };
 
 }  // namespace granule

@@ -35,7 +35,7 @@ inline std::uint64_t Simulation<D, Model, Search, Integrator>::add_particle(cons
                   "] m (inside the non-periodic domain)");
   }
   for (int k = 0; k < D::rot_dim; ++k) {
-    const double w = component(omega, k);
+    const double w = D::component(omega, k);
     require(std::isfinite(w), where, "omega[" + std::to_string(k) + "]", w, "finite");
   }
   check_insertion(x, radius, where);
@@ -80,33 +80,19 @@ inline void Simulation<D, Model, Search, Integrator>::set_wall_active(std::uint3
 }
 
 template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::freeze_group(std::uint32_t group) {
-  list_valid_ = false;  // which pairs exist depends on the motion modes
-  group_mode_resize(group);
-  group_motion_[group] = Motion::Frozen;
-  group_velocity_[group] = nullptr;
-  for (std::size_t i = 0; i < particles_.owned(); ++i)
-    if (particles_.group[i] == group) apply_group_motion(i);
-}
-
-template <class D, class Model, class Search, class Integrator>
 inline void Simulation<D, Model, Search, Integrator>::prescribe_group_velocity(std::uint32_t group, std::function<Vec(double)> velocity) {
-  list_valid_ = false;  // which pairs exist depends on the motion modes
   require(static_cast<bool>(velocity), "Simulation::prescribe_group_velocity", "velocity", 0.0,
           "a callable of time");
-  group_mode_resize(group);
-  group_motion_[group] = Motion::Prescribed;
-  group_velocity_[group] = std::move(velocity);
-  for (std::size_t i = 0; i < particles_.owned(); ++i)
-    if (particles_.group[i] == group) apply_group_motion(i);
+  set_group_motion(group, Motion::Prescribed, std::move(velocity));
 }
 
 template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::release_group(std::uint32_t group) {
+inline void Simulation<D, Model, Search, Integrator>::set_group_motion(std::uint32_t group, Motion mode,
+                                                                        std::function<Vec(double)> velocity) {
   list_valid_ = false;  // which pairs exist depends on the motion modes
   group_mode_resize(group);
-  group_motion_[group] = Motion::Free;
-  group_velocity_[group] = nullptr;
+  group_motion_[group] = mode;
+  group_velocity_[group] = std::move(velocity);
   for (std::size_t i = 0; i < particles_.owned(); ++i)
     if (particles_.group[i] == group) apply_group_motion(i);
 }

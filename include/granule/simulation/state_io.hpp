@@ -154,7 +154,7 @@ inline void Simulation<D, Model, Search, Integrator>::load_state_format(R& r, st
       if (!std::isfinite(p.f[i][k])) at("f[" + std::to_string(k) + "] =", p.f[i][k]);
     }
     for (int k = 0; k < D::rot_dim; ++k) {
-      const double w = component(p.omega[i], k), t = component(p.torque[i], k);
+      const double w = D::component(p.omega[i], k), t = D::component(p.torque[i], k);
       if (!std::isfinite(w)) at("omega[" + std::to_string(k) + "] =", w);
       if (!std::isfinite(t)) at("torque[" + std::to_string(k) + "] =", t);
     }
@@ -179,12 +179,12 @@ inline void Simulation<D, Model, Search, Integrator>::load_state_format(R& r, st
     const BodyState& b = bs[k];
     bool finite = b.rotation.allFinite() && b.translation.allFinite() && b.force.allFinite() &&
                   b.displacement.allFinite() && std::isfinite(b.work) && std::isfinite(b.rotation_since_build);
-    for (int c = 0; c < D::rot_dim; ++c) finite = finite && std::isfinite(component(b.torque, c));
+    for (int c = 0; c < D::rot_dim; ++c) finite = finite && std::isfinite(D::component(b.torque, c));
     if (!finite) bad("body " + std::to_string(k) + " has a value that is not finite");
   }
   for (std::size_t k = 0; k < ws.size(); ++k) {
     bool finite = ws[k].force.allFinite();
-    for (int c = 0; c < D::rot_dim; ++c) finite = finite && std::isfinite(component(ws[k].torque, c));
+    for (int c = 0; c < D::rot_dim; ++c) finite = finite && std::isfinite(D::component(ws[k].torque, c));
     if (!finite) bad("wall " + std::to_string(k) + " has a force or torque that is not finite");
   }
   for (std::size_t g = 0; g < modes.size(); ++g) {

@@ -33,6 +33,17 @@ inline double Simulation<D, Model, Search, Integrator>::suggested_time_step() co
   return std::min(config_.time_step_safety * critical_time_step(), rolling_stability_limit().limit);
 }
 
+// rolling_stability_limit: rotations obey I theta'' = -K theta - C theta' - (coupling to
+// translation through the tangential spring); K and C are assembled from the contacts' k_r, C_r
+// on the relative rotation and k_t, gamma_t on the slip at the contact point. For every free
+// particle i, Gershgorin's theorem on M^-1/2 K M^-1/2 (and C) bounds the largest rate of its
+// rotation rows:
+//   w_i^2 = sum_c [ k_r (a_i + sqrt(a_i a_j)) + k_t l_i (l_i a_i + l_j sqrt(a_i a_j)
+//                   + sqrt(a_i b_i) + sqrt(a_i b_j)) ]
+// with a = 1/I, b = 1/m (0 for a wall or a partner that is not free) and l the lever arms;
+// 2 zeta_i w_i the same sum with C_r, gamma_t. The limit is the smallest
+// damped_oscillator_stability_limit(w_i, zeta_i): dt^2 w^2 / 4 + dt zeta w <= 1, sufficient for
+// K and C that are not proportional.
 template <class D, class Model, class Search, class Integrator>
 inline auto Simulation<D, Model, Search, Integrator>::rolling_stability_limit() const -> RollingLimit {
   RollingLimit out;
@@ -81,6 +92,14 @@ inline auto Simulation<D, Model, Search, Integrator>::rolling_stability_limit() 
   return out;
 }
 
+// rolling_limit_estimate: for models with a rolling spring-dashpot under gravity, one contact of
+// the smallest particle of each particle material against every material it can touch (a wall,
+// or the smallest particle of another particle material), at the overlap where its normal law
+// carries the particle's weight m |g|, with the rolling terms of rolling_stability_limit()'s row
+// alone (w^2 = K (a_i + sqrt(a_i a_j)), 2 zeta w the same with C). Leaving out the tangential
+// terms and the other contacts makes it an upper bound of rolling_stability_limit() at that
+// contact: a step above it is refused surely (a particle at rest on anything carries at least
+// its weight), one below it is checked again once the contacts exist.
 template <class D, class Model, class Search, class Integrator>
 inline auto Simulation<D, Model, Search, Integrator>::rolling_limit_estimate() const -> RollingEstimate {
   RollingEstimate out;

@@ -1,0 +1,52 @@
+#pragma once
+// The work of one force evaluation of a Simulation: per-layer accumulators, the packed pair
+// loop's per-thread arrays and its queue of wall contacts. Data only; the passes that fill them
+// are simulation/pair_pass.hpp and simulation/wall_pass.hpp.
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "granule/analysis/frame.hpp"
+#include "granule/contact/packed.hpp"
+#include "granule/core/lanes.hpp"
+
+namespace granule::simulation_parts {
+
+// Per-layer accumulators of one force evaluation (summed in layer order afterwards, so the
+// sums do not depend on the number of threads).
+template <class D>
+struct LayerAccumulator {
+  std::size_t contacts = 0;
+  std::size_t bad_row = std::numeric_limits<std::size_t>::max();
+  std::size_t bad_partner = 0;
+  double bad_overlap = 0.0;
+  bool bad_wall = false;
+  std::size_t missing_wall_features = 0;
+  std::vector<typename D::Vec> body_force;
+  std::vector<typename D::AngVec> body_torque;
+  std::vector<typename D::Vec> wall_force;  // beside body_force: the same contacts, per wall
+  std::vector<typename D::AngVec> wall_torque;
+  std::vector<analysis::ContactRecord<D>> records;
+};
+
+// Work arrays of the packed pair loop, one per thread (process_layer_packed): the layer's
+// list entries that touch and the row of each.
+struct PairWork {
+  std::vector<std::uint32_t> entries, rows;
+};
+
+// Wall contacts queued for the packed law (process_layer_packed): W at a time, one parameter
+// set per pack.
+template <class D, class State>
+struct WallQueue {
+  contact::GeometryLanes lanes;
+  State* state[lane_width];
+  State scratch[lane_width];  ///< histories of contacts without a slot (dropped after the law)
+  std::uint32_t i[lane_width], wall[lane_width];
+  typename D::Vec arm[lane_width];  ///< contact point - body origin
+  std::size_t count = 0;
+  std::size_t params = 0;
+};
+
+}  // namespace granule::simulation_parts
