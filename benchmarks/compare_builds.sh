@@ -86,12 +86,18 @@ fi
 if [[ $callgrind == 1 ]]; then
   echo "# instructions per particle-step (callgrind, ${cg_steps} + 30 steps less ${cg_steps})"
   for k in "${!bins[@]}"; do
+    pids=()
     for s in "$cg_steps" $((cg_steps + 30)); do
       valgrind --tool=callgrind --callgrind-out-file="$work/cg$k.$s" \
         "${bins[$k]}" --scene "$scene" --data "$data" --threads 1 --steps "$s" --warmup 0 --repeat 1 \
         > /dev/null 2> "$work/cg$k.$s.log" &
+      pids+=($!)
     done
-    wait
+    for pid in "${pids[@]}"; do
+      # valgrind cannot run AVX-512 code (SIGILL): count instructions on an AVX2 build.
+      wait "$pid" || die "'${bins[$k]}' failed under callgrind ($(grep -m1 -o 'unhandled instruction.*\|Illegal.*' "$work"/cg$k.*.log || echo 'see valgrind'));" \
+        "valgrind cannot run AVX-512 code: compare builds made with -march=x86-64-v3 (AVX2), or pass --no-callgrind"
+    done
     lo="$(ir "$work/cg$k.$cg_steps.log")" hi="$(ir "$work/cg$k.$((cg_steps + 30)).log")"
     [[ -n "$lo" && -n "$hi" ]] || die "callgrind gave no count for '${bins[$k]}' (see valgrind's output)"
     awk -v a="$lo" -v b="$hi" -v n="$particles" -v w="$(name "$k")" \
