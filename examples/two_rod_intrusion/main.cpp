@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -315,6 +316,21 @@ int run_study(Options o) {
   const fs::path out = o.out;
   const fs::path results = o.results.empty() ? out / "results" / o.study : fs::path(o.results);
   fs::create_directories(results / "runs");
+  {
+    // The contact law of every result here (scene.hpp: a build may choose another): written
+    // with the first case, and a build of another law refuses the directory.
+    const fs::path law_file = results / "law.txt";
+    const std::string law = tr::Law::signature();
+    if (std::ifstream in(law_file); in) {
+      std::string had;
+      std::getline(in, had);
+      if (had != law)
+        throw std::runtime_error("the results in " + results.string() + " were computed with the law " + had +
+                                 "; this build is " + law + " (use another --results directory)");
+    } else {
+      tr::study_detail::write_atomically(law_file, law + "\n");
+    }
+  }
   const double d = o.bed.diameter;
   const std::string shape = tr::shape_name(o.rod.shape);
   auto log = [&](const std::string& s) {

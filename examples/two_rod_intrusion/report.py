@@ -299,6 +299,40 @@ def table_box(studies):
     return "\n".join(rows) + "\n"
 
 
+def table_law(studies):
+    """The law check: W at the gaps of `legacy9` in the 9 cm box, LIGGGHTS 3.8's Hertz-Mindlin
+    (the law paper 000 ran with) against the force history every other part uses."""
+    by = {s["tag"]: s for s in studies}
+    inc, leg = by.get("square"), by.get("legacy9")
+    if not leg or not leg["gaps"].get("square") or not inc:
+        return "_Not run yet (`run_study.sh legacy9`)._\n"
+    wi = {r["gap_over_d"]: r for r in inc["gaps"].get("square", [])}
+    both = [(wi[r["gap_over_d"]], r) for r in leg["gaps"]["square"] if r["gap_over_d"] in wi]
+    out = ["| s/d | W, force history [J] | W, LIGGGHTS 3.8 law [J] | difference | combined s.e. |",
+           "|---|---|---|---|---|"]
+    for a, b in both:
+        sa, sb = standard_errors(a, b)
+        out.append(f"| {fmt(a['gap_over_d'])} | {fmt(a['work_mean'])} ± {fmt(sa, 2)} ({int(a['beds'])}) | "
+                   f"{fmt(b['work_mean'])} ± {fmt(sb, 2)} ({int(b['beds'])}) | "
+                   f"{100 * (b['work_mean'] - a['work_mean']) / a['work_mean']:+.1f} % | "
+                   f"{100 * math.hypot(sa, sb) / a['work_mean']:.1f} % |")
+    g = {a["gap_over_d"]: (a, b) for a, b in both}
+    wide = max(g) if g else None
+    if wide is not None and wide >= 11:
+        out.append("")
+        for gap in sorted(k for k in g if k < wide):
+            (a, b), (aw, bw) = g[gap], g[wide]
+            ra, rb = a["work_mean"] / aw["work_mean"], b["work_mean"] / bw["work_mean"]
+            # Standard error of a ratio of two independent means, to first order.
+            def se(x, y, sx, sy):
+                return (x / y) * math.hypot(sx / x, sy / y)
+            sa = se(a["work_mean"], aw["work_mean"], *[standard_errors(a, b)[0], standard_errors(aw, bw)[0]])
+            sb = se(b["work_mean"], bw["work_mean"], *[standard_errors(a, b)[1], standard_errors(aw, bw)[1]])
+            out.append(f"W(s/d = {fmt(gap)}) / W(s/d = {fmt(wide)}): {ra:.3f} ± {sa:.3f} with the force history, "
+                       f"{rb:.3f} ± {sb:.3f} with the LIGGGHTS 3.8 law (paper 000: up to {PAPER['peak_over_plateau']}).")
+    return "\n".join(out) + "\n"
+
+
 def blocks(studies):
     by = {s["tag"]: s for s in studies}
     sq = by.get("square", {"gaps": {}, "peak": {}})
@@ -310,6 +344,7 @@ def blocks(studies):
         "work-square-13": table_work(by.get("box13", {"gaps": {}, "peak": {}}), "square"),
         "work-square-25": table_work(by.get("box25", {"gaps": {}, "peak": {}}), "square"),
         "box-check": table_box(studies),
+        "law-check": table_law(studies),
         "cost": table_cost(studies),
     }
 
@@ -413,7 +448,7 @@ def main(argv):
     outdir = os.path.join(HERE, "..", "..", "out", "two_rod_study", "figures")
     if "--figures" in argv:
         outdir = argv[argv.index("--figures") + 1]
-    studies = [s for s in (load(t) for t in ("square", "cylinder", "rho1774", "box13", "box17", "box25")) if s]
+    studies = [s for s in (load(t) for t in ("square", "cylinder", "rho1774", "box13", "box17", "box25", "legacy9")) if s]
     with open(README, encoding="utf-8") as f:
         text = f.read()
     new = render(text, blocks(studies))

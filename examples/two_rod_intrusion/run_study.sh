@@ -9,6 +9,9 @@
 #   box17      the box-size check of the 13 cm box: a 17 x 17 cm box, s/d = 3 and 15, 3 beds
 #   box25      the paper's own 25 x 25 cm box (neither smaller box passes its check): one bed,
 #              s/d = 3 and 15 first, then 5, 4 and 2 (the peak), 0 and 8 on the same (cached) bed
+#   legacy9    the law check: LIGGGHTS 3.8's Hertz-Mindlin (HertzMindlinLegacy, the law paper 000
+#              ran with; program two_rod_intrusion_legacy) in the 9 cm box, s/d = 3, 4 and 15,
+#              3 beds, against `square` (the force history, HertzMindlinIncremental)
 # Every case writes its own file under results/<tag>/runs/; a rerun skips the cases done, so the
 # script can be stopped and started again. Progress with an ETA goes to the log also off a
 # terminal. At the end report.py regenerates README.md's tables and the figures.
@@ -17,7 +20,7 @@
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 source "$HERE/../common/study_build.sh"
-study_build two_rod_intrusion
+ROOT="$(cd "$HERE/../.." && pwd)"
 OUT="$ROOT/out/two_rod_study"
 RES="$HERE/results"
 mkdir -p "$OUT"
@@ -25,6 +28,9 @@ mkdir -p "$OUT"
 run() {
   local tag="$1"
   shift
+  local target=two_rod_intrusion
+  [[ $tag == legacy9 ]] && target=two_rod_intrusion_legacy
+  study_build "$target"
   echo "== $tag: $*" | tee -a "$OUT/$tag.log"
   "$EXE" --study "$tag" --out "$OUT" --results "$RES/$tag" --threads "${THREADS:-2}" "$@" 2>&1 | tee -a "$OUT/$tag.log"
 }
@@ -39,7 +45,8 @@ for tag in "${tags[@]}"; do
     box13) run box13 --seeds 1,2,3 --box 0.13,0.13,0.10 --gap-list 0,1,2,3,4,5,6,8,11,15 ;;
     box17) run box17 --seeds 1,2,3 --box 0.17,0.17,0.10 --gap-list 3,15 --no-single ;;
     box25) run box25 --seeds 1 --box 0.25,0.25,0.10 --gap-list 3,15,5,4,2,0,8 --no-single ;;
-    *) echo "unknown study tag '$tag' (square, cylinder, rho1774, box13, box17, box25)" >&2; exit 2 ;;
+    legacy9) run legacy9 --seeds 1,2,3 --gap-list 3,15,4 --no-single ;;
+    *) echo "unknown study tag '$tag' (square, cylinder, rho1774, box13, box17, box25, legacy9)" >&2; exit 2 ;;
   esac
 done
 /usr/bin/python3 "$HERE/report.py"

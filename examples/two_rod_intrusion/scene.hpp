@@ -58,7 +58,15 @@ using Vec = Dim3::Vec;
 // library's default until 2026-12-06: every result in results/ was computed with it, so the study
 // keeps it until the ensembles are rerun with the potential form that is the default now
 // (contact/tangential/spring.hpp; the two differ only in micro-slip, Chung & Ooi Test 4).
-using Sim = Simulation<Dim3, contact::HertzMindlinIncremental, neighbours::VerletList>;
+// A build may choose another law of contact/model.hpp with -DGRANULE_TWO_ROD_LAW=<name>: the
+// target two_rod_intrusion_legacy (examples/CMakeLists.txt) is HertzMindlinLegacy, the
+// LIGGGHTS 3.8 law paper 000 ran with (run_study.sh legacy9). The law's signature is part of the
+// bed's key and of every study's results (law.txt), so results of two laws never mix.
+#ifndef GRANULE_TWO_ROD_LAW
+#define GRANULE_TWO_ROD_LAW HertzMindlinIncremental
+#endif
+using Law = contact::GRANULE_TWO_ROD_LAW;
+using Sim = Simulation<Dim3, Law, neighbours::VerletList>;
 
 /// Cross-section of the rods.
 enum class RodShape {
@@ -254,6 +262,9 @@ inline std::uint64_t BedParams::key() const {
   mix(&seed, sizeof(seed));
   const std::uint8_t large = allow_large_time_step ? 1 : 0;
   mix(&large, 1);
+  // The law, for any law but the one every cached bed so far was poured with (their names stay).
+  if (const std::string law = Law::signature(); law != contact::HertzMindlinIncremental::signature())
+    mix(law.data(), law.size());
   return h;
 }
 
