@@ -195,16 +195,20 @@ struct ContactModel {
   }
 
  public:
-  /// Elastic energy stored in the contact: normal spring + tangential and rolling springs [J].
-  /// Cohesion energy is not included.
+  /// Energy stored in the contact: the potential of the elastic normal force (normal spring and
+  /// cohesion, zero for a separated pair, so that its derivative by the overlap is the elastic
+  /// F_n) + the tangential and rolling springs [J]. A tensile cohesion law (JKR) replaces the
+  /// Hertz force, and its energy is the whole normal potential (cohesion/jkr.hpp: it jumps at
+  /// touch and at the break, where the engine's force jumps too).
   template <class D>
   static double stored_energy(const Params& p, const ContactGeometry<D>& gt, const State<D>& s) {
     ContactGeometry<D> g = gt;
     if constexpr (tensile) g.overlap = Cohesion::elastic_overlap(p.cohesion, gt.overlap, gt.r_eff);
     NormalResult nr = Normal::eval(p.normal, g);
     nr.fn -= Cohesion::eval(p.cohesion, g);
-    return Normal::elastic_energy(p.normal, g.overlap, g.r_eff) +
-           Tangential::energy(p.tangential, g, nr, s.tangential) +
+    double normal = Cohesion::energy(p.cohesion, g);
+    if constexpr (!tensile) normal += Normal::elastic_energy(p.normal, g.overlap, g.r_eff);
+    return normal + Tangential::energy(p.tangential, g, nr, s.tangential) +
            Rolling::energy(p.rolling, g, nr, s.rolling);
   }
 
