@@ -45,8 +45,10 @@ constexpr bool needs_twist() {
 }
 /// A slot law whose eval is written over D::Real declares `static constexpr bool lanes = true`.
 /// A tangential law whose elastic force derives from a potential that also depends on the
-/// overlap declares `static constexpr bool couples_normal = true` and
-/// `normal_coupling(Params, g, nr, State)`, the normal force of that potential.
+/// overlap declares `static constexpr bool couples_normal = true`, `stiffness(Params, g, nr)`
+/// (what the law computes from the geometry, e.g. k_t and gamma_t: evaluated once per contact
+/// and step), `normal_coupling(Params, g, nr, State, stiffness)`, the normal force of that
+/// potential, and `eval(Params, g, nr, State, stiffness)`.
 template <class Law>
 constexpr bool couples_normal() {
   if constexpr (requires { Law::couples_normal; }) {
@@ -177,12 +179,18 @@ struct ContactModel {
   static ContactForce<D> compose(const Params& p, const ContactGeometry<D>& g, State<D>& s) {
     NormalResultOf<D> nr = Normal::eval(p.normal, g);
     nr.fn -= Cohesion::eval(p.cohesion, g);
-    if constexpr (detail::couples_normal<Tangential>()) {
-      // The normal force of the tangential spring's potential, from the history as the last
-      // step left it, so that the Coulomb limits below see the whole normal force.
-      nr.fn += Tangential::normal_coupling(p.tangential, g, nr, s.tangential);
-    }
-    const typename D::Vec ft = Tangential::eval(p.tangential, g, nr, s.tangential);
+    const typename D::Vec ft = [&]() -> typename D::Vec {
+      if constexpr (detail::couples_normal<Tangential>()) {
+        // The normal force of the tangential spring's potential, from the history as the last
+        // step left it, so that the Coulomb limits below see the whole normal force. The
+        // spring's stiffness (Mindlin: k_t and gamma_t) is computed once for both calls.
+        const auto k = Tangential::stiffness(p.tangential, g, nr);
+        nr.fn += Tangential::normal_coupling(p.tangential, g, nr, s.tangential, k);
+        return Tangential::eval(p.tangential, g, nr, s.tangential, k);
+      } else {
+        return Tangential::eval(p.tangential, g, nr, s.tangential);
+      }
+    }();
     const typename D::AngVec mr = Rolling::eval(p.rolling, g, nr, s.rolling);
     ContactForce<D> f;
     f.fn = nr.fn;
