@@ -179,18 +179,17 @@ struct ContactModel {
   static ContactForce<D> compose(const Params& p, const ContactGeometry<D>& g, State<D>& s) {
     NormalResultOf<D> nr = Normal::eval(p.normal, g);
     nr.fn -= Cohesion::eval(p.cohesion, g);
-    const typename D::Vec ft = [&]() -> typename D::Vec {
-      if constexpr (detail::couples_normal<Tangential>()) {
-        // The normal force of the tangential spring's potential, from the history as the last
-        // step left it, so that the Coulomb limits below see the whole normal force. The
-        // spring's stiffness (Mindlin: k_t and gamma_t) is computed once for both calls.
-        const auto k = Tangential::stiffness(p.tangential, g, nr);
-        nr.fn += Tangential::normal_coupling(p.tangential, g, nr, s.tangential, k);
-        return Tangential::eval(p.tangential, g, nr, s.tangential, k);
-      } else {
-        return Tangential::eval(p.tangential, g, nr, s.tangential);
-      }
-    }();
+    typename D::Vec ft;
+    if constexpr (detail::couples_normal<Tangential>()) {
+      // The normal force of the tangential spring's potential, from the history as the last
+      // step left it, so that the Coulomb limits below see the whole normal force. The
+      // spring's stiffness (Mindlin: k_t and gamma_t) is computed once for both calls.
+      const auto k = Tangential::stiffness(p.tangential, g, nr);
+      nr.fn += Tangential::normal_coupling(p.tangential, g, nr, s.tangential, k);
+      ft = Tangential::eval(p.tangential, g, nr, s.tangential, k);
+    } else {
+      ft = Tangential::eval(p.tangential, g, nr, s.tangential);
+    }
     const typename D::AngVec mr = Rolling::eval(p.rolling, g, nr, s.rolling);
     ContactForce<D> f;
     f.fn = nr.fn;
