@@ -13,8 +13,9 @@
 //    8 E* a^5 / (15 R*^2)) and unloading it at constant radius with the flat-punch stiffness
 //    2 a E* to the JKR load P: U_E = 8 E* a^5 / (15 R*^2) - (P1^2 - P^2) / (4 a E*). It is
 //    written out here independently of the law's closed form. At the zero-load radius a0 it gives
-//    -3/5 pi w a0^2, at the break radius a_c +2/5 pi w a_c^2, at touch (delta = 0 on the stable
-//    branch, a_t^3 = 2 pi w R*^2 / E*) -3/5 pi w a_t^2 (these three by hand from U_T).
+//    -3/5 pi w a0^2, at the load-controlled pull-off (a^3 = a0^3 / 4) -2/5 pi w a^2, at the break
+//    radius a_c +2/5 pi w a_c^2, at touch (delta = 0 on the stable branch, a_t^3 = 2 pi w R*^2 / E*)
+//    -3/5 pi w a_t^2 (these four by hand from U_T).
 // Material as tests/contact/test_jkr_dmt.cpp: E = 1 MPa, nu = 0.3, gamma = 0.05 J/m^2, r = 1 mm.
 #include <catch2/catch.hpp>
 
@@ -185,6 +186,8 @@ TEST_CASE("Cohesion energy: JKR energy is Johnson's total energy and differentia
   CHECK(slot_energy(a0) == Approx(-0.6 * kPiCe * kWCe * a0 * a0).epsilon(1e-12));
   CHECK(slot_energy(ac) == Approx(0.4 * kPiCe * kWCe * ac * ac).epsilon(1e-12));
   CHECK(slot_energy(at) == Approx(-0.6 * kPiCe * kWCe * at * at).epsilon(1e-12));
+  const double a_pf0 = a0 / std::cbrt(4.0);  // the load-controlled pull-off, F = -3/2 pi w R*
+  CHECK(slot_energy(a_pf0) == Approx(-0.4 * kPiCe * kWCe * a_pf0 * a_pf0).epsilon(1e-12));
   CHECK(ce_jkr_force(a0) == Approx(0.0).margin(1e-12 * kPiCe * kWCe * kRstarCe));
 
   // Through the model, in the real overlap.
