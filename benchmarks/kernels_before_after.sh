@@ -49,7 +49,7 @@ while [[ $# -gt 0 ]]; do
     --map) maps+=("${2:-}"); shift 2 ;;
     --keep) keep=1; shift ;;
     --rebuild) rebuild=1; shift ;;
-    -h|--help) sed -n '2,34p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,33p' "$0"; exit 0 ;;
     -*) die "unknown option $1 (see --help)" ;;
     *) refs+=("$1"); shift ;;
   esac
