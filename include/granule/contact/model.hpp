@@ -45,8 +45,10 @@ constexpr bool needs_twist() {
 }
 /// A slot law whose eval is written over D::Real declares `static constexpr bool lanes = true`.
 /// A tangential law whose elastic force derives from a potential that also depends on the
-/// overlap declares `static constexpr bool couples_normal = true` and
-/// `normal_coupling(Params, g, nr, State)`, the normal force of that potential.
+/// overlap declares `static constexpr bool couples_normal = true`, `stiffness(Params, g, nr)`
+/// (what the law computes from the geometry, e.g. k_t and gamma_t: evaluated once per contact
+/// and step), `normal_coupling(Params, g, nr, State, stiffness)`, the normal force of that
+/// potential, and `eval(Params, g, nr, State, stiffness)`.
 template <class Law>
 constexpr bool couples_normal() {
   if constexpr (requires { Law::couples_normal; }) {
@@ -190,12 +192,17 @@ struct ContactModel {
   static ContactForce<D> compose(const Params& p, const ContactGeometry<D>& g, State<D>& s) {
     NormalResultOf<D> nr = Normal::eval(p.normal, g);
     nr.fn -= Cohesion::eval(p.cohesion, g);
+    typename D::Vec ft;
     if constexpr (detail::couples_normal<Tangential>()) {
       // The normal force of the tangential spring's potential, from the history as the last
-      // step left it, so that the Coulomb limits below see the whole normal force.
-      nr.fn += Tangential::normal_coupling(p.tangential, g, nr, s.tangential);
+      // step left it, so that the Coulomb limits below see the whole normal force. The
+      // spring's stiffness (Mindlin: k_t and gamma_t) is computed once for both calls.
+      const auto k = Tangential::stiffness(p.tangential, g, nr);
+      nr.fn += Tangential::normal_coupling(p.tangential, g, nr, s.tangential, k);
+      ft = Tangential::eval(p.tangential, g, nr, s.tangential, k);
+    } else {
+      ft = Tangential::eval(p.tangential, g, nr, s.tangential);
     }
-    const typename D::Vec ft = Tangential::eval(p.tangential, g, nr, s.tangential);
     const typename D::AngVec mr = Rolling::eval(p.rolling, g, nr, s.rolling);
     ContactForce<D> f;
     f.fn = nr.fn;
@@ -208,16 +215,20 @@ struct ContactModel {
   }
 
  public:
-  /// Elastic energy stored in the contact: normal spring + tangential and rolling springs [J].
-  /// Cohesion energy is not included.
+  /// Energy stored in the contact: the potential of the elastic normal force (normal spring and
+  /// cohesion, zero for a separated pair, so that its derivative by the overlap is the elastic
+  /// F_n) + the tangential and rolling springs [J]. A tensile cohesion law (JKR) replaces the
+  /// Hertz force, and its energy is the whole normal potential (cohesion/jkr.hpp: it jumps at
+  /// touch and at the break, where the engine's force jumps too).
   template <class D>
   static double stored_energy(const Params& p, const ContactGeometry<D>& gt, const State<D>& s) {
     ContactGeometry<D> g = gt;
     if constexpr (tensile) g.overlap = Cohesion::elastic_overlap(p.cohesion, gt.overlap, gt.r_eff);
     NormalResult nr = Normal::eval(p.normal, g);
     nr.fn -= Cohesion::eval(p.cohesion, g);
-    return Normal::elastic_energy(p.normal, g.overlap, g.r_eff) +
-           Tangential::energy(p.tangential, g, nr, s.tangential) +
+    double normal = Cohesion::energy(p.cohesion, g);
+    if constexpr (!tensile) normal += Normal::elastic_energy(p.normal, g.overlap, g.r_eff);
+    return normal + Tangential::energy(p.tangential, g, nr, s.tangential) +
            Rolling::energy(p.rolling, g, nr, s.rolling);
   }
 

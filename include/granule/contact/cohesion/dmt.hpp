@@ -25,6 +25,11 @@ struct DmtCohesion {
     static_assert(D::dim == 3, "DmtCohesion: DMT is a law of spheres (3D)");
     return (2.0 * std::numbers::pi * p.w) * g.r_eff;
   }
+  /// Potential of the pull, -2 pi w R* delta while overlapping, 0 apart (continuous at touch) [J].
+  template <class D>
+  static double energy(const Params& p, const ContactGeometry<D>& g) {
+    return g.overlap > 0.0 ? -(2.0 * std::numbers::pi * p.w) * g.r_eff * g.overlap : 0.0;
+  }
 };
 
 }  // namespace granule::contact

@@ -79,6 +79,29 @@ struct JkrCohesion {
     const double a3 = std::sqrt(g.r_eff * g.overlap) * g.r_eff * g.overlap;  // a^3 = (R* delta_H)^3/2
     return std::sqrt(8.0 * std::numbers::pi * p.w * p.E_eff * a3);
   }
+
+  /// Potential of the whole JKR force, Hertz part included [J]; g is the geometry eval sees
+  /// (g.overlap = a^2 / R*). Integrating F(a) d delta(a)/da over a from a = 0 gives
+  ///   U(a) = 8 E* a^5 / (15 R*^2) - 4/(3 R*) sqrt(2 pi w E*) a^7/2 + pi w a^2,
+  /// which is Johnson's total energy U_E - w pi a^2 (elastic energy of the Hertz load to a^2/R*
+  /// followed by the flat-punch unload at radius a, minus the surface energy; JKR 1971, Maugis
+  /// 2000 ch. 5), so dU/d delta = F on the equilibrium curve. Convention: zero for the separated
+  /// pair, a = 0, the start of that curve at delta = 0. The curve reaches the stable branch a >= a_c
+  /// only through the unstable one, which the engine never follows, so the stored energy jumps
+  /// at both ends of the hysteresis, at constant delta (no work done): at touch from 0 to
+  /// U(a_t) = -3/5 pi w a_t^2 (a_t^3 = 2 pi w R*^2 / E*, the jump-in), at the break from
+  /// U(a_c) = +2/5 pi w a_c^2 to 0. The sum, 3/5 pi w a_t^2 + 2/5 pi w a_c^2, is the area of the
+  /// hysteresis loop: what a touch-and-break cycle dissipates. Between the two jumps the pair's
+  /// kinetic plus stored energy is constant (undamped). ContactModel::stored_energy takes this
+  /// in place of the normal law's energy (tensile).
+  template <class D>
+  static double energy(const Params& p, const ContactGeometry<D>& g) {
+    static_assert(D::dim == 3, "JkrCohesion: JKR is a law of spheres (3D)");
+    const double a2 = g.r_eff * g.overlap, a = std::sqrt(a2);
+    return 8.0 * p.E_eff * a2 * a2 * a / (15.0 * g.r_eff * g.r_eff) -
+           4.0 / (3.0 * g.r_eff) * std::sqrt(2.0 * std::numbers::pi * p.w * p.E_eff) * a2 * a * std::sqrt(a) +
+           std::numbers::pi * p.w * a2;
+  }
 };
 
 }  // namespace granule::contact

@@ -15,6 +15,11 @@ struct NoCohesion {
   static typename D::Real eval(const Params&, const ContactGeometry<D>&) {
     return typename D::Real(0.0);
   }
+  /// Potential of the cohesive force [J]: none.
+  template <class D>
+  static double energy(const Params&, const ContactGeometry<D>&) {
+    return 0.0;
+  }
 };
 
 }  // namespace granule::contact

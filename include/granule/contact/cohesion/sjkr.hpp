@@ -8,6 +8,7 @@
 //   a^2 = 2 r delta - delta^2.
 // 2D (disks of thickness t): the contact is a strip of width 2a, so A = 2 a t.
 // k_c [J/m^3 = N/m^2], A [m^2], F_c [N].
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -56,6 +57,50 @@ struct SjkrCohesion {
   template <class D>
   static typename D::Real eval(const Params& p, const ContactGeometry<D>& g) {
     return p.k_c * area(p, g);
+  }
+
+  /// Potential of the cohesive force, -k_c int_0^delta A(delta') d delta' [J] (0 apart,
+  /// continuous at touch). With S = r1 + r2, D = r1 - r2 and d = S - delta, a^2 =
+  /// ((S^2 + D^2) - d^2 - S^2 D^2 / d^2) / 4 integrates over d' from d to S to
+  ///   int_0^delta a^2 = delta^2 / 4 ((2 S + d) / 3 - D^2 / d)      (-> R* delta^2 for small delta),
+  /// and for a sphere on a wall int_0^delta (2 r x - x^2) dx = r delta^2 - delta^3 / 3. 2D:
+  /// A = 2 a t with a ~ sqrt(delta'), integrated by 8-point Gauss-Legendre in s, delta' = delta s^2,
+  /// where the integrand is smooth (relative error ~1e-15 at the overlaps of a DEM contact).
+  template <class D>
+  static double energy(const Params& p, const ContactGeometry<D>& g) {
+    const double delta = g.overlap;
+    if (!(delta > 0.0)) return 0.0;
+    const bool wall = !std::isfinite(g.distance);
+    if constexpr (D::dim == 3) {
+      double integral = 0.0;  // int_0^delta a^2 [m^3]
+      if (wall) {
+        integral = g.r_i * delta * delta - delta * delta * delta / 3.0;
+      } else {
+        const double S = g.r_i + g.r_j, Dr = g.r_i - g.r_j, d = S - delta;
+        integral = 0.25 * delta * delta * ((2.0 * S + d) / 3.0 - Dr * Dr / d);
+      }
+      return -p.k_c * std::numbers::pi * integral;
+    } else {
+      // Gauss-Legendre on [0, 1]: nodes (1 + x_k) / 2, weights w_k / 2.
+      constexpr double x[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363};
+      constexpr double wt[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
+      const auto radius = [&](double dl) {  // a(delta') [m], as contact_radius_sq
+        double a2 = 2.0 * g.r_i * dl - dl * dl;
+        if (!wall) {
+          const double dd = g.r_i + g.r_j - dl, r1 = g.r_i, r2 = g.r_j;
+          a2 = (-dd + r1 + r2) * (dd - r1 + r2) * (dd + r1 - r2) * (dd + r1 + r2) / (4.0 * dd * dd);
+        }
+        return std::sqrt(std::max(0.0, a2));
+      };
+      double integral = 0.0;  // int_0^delta a [m^2] = int_0^1 a(delta s^2) 2 delta s ds
+      for (int k = 0; k < 4; ++k) {
+        for (const double sign : {-1.0, 1.0}) {
+          const double s = 0.5 * (1.0 + sign * x[k]);
+          integral += 0.5 * wt[k] * radius(delta * s * s) * 2.0 * delta * s;
+        }
+      }
+      return -p.k_c * 2.0 * p.thickness * integral;
+    }
   }
 };
 

@@ -205,15 +205,36 @@ struct SpringTangential {
     return {kt, gamma_t};
   }
 
+  /// k_t and gamma_t of this step, computed once and handed to normal_coupling and eval
+  /// (ContactModel does so for couples_normal laws; the stiffness does not depend on F_n).
+  template <class D>
+  struct Stiff {
+    typename D::Real kt;       ///< [N/m]
+    typename D::Real gamma_t;  ///< [N s/m]
+  };
+  template <class D>
+  static Stiff<D> stiffness(const Params& p, const ContactGeometry<D>& g, const NormalResultOf<D>& nr) {
+    Stiff<D> k;
+    k.gamma_t = 0.0;
+    k.kt = Stiffness::eval(p.stiffness, g, nr, k.gamma_t);
+    return k;
+  }
+
   template <class D>
   static typename D::Vec eval(const Params& p, const ContactGeometry<D>& g, const NormalResultOf<D>& nr,
                               State<D>& s) {
+    return eval(p, g, nr, s, stiffness(p, g, nr));
+  }
+  /// The same with k_t and gamma_t from stiffness(p, g, nr).
+  template <class D>
+  static typename D::Vec eval(const Params& p, const ContactGeometry<D>& g, const NormalResultOf<D>& nr,
+                              State<D>& s, const Stiff<D>& k) {
     using std::abs;
     using std::sqrt;
     using Vec = typename D::Vec;
     using R = typename D::Real;
-    R gamma_t = 0.0;
-    const R kt = Stiffness::eval(p.stiffness, g, nr, gamma_t);
+    const R gamma_t = k.gamma_t;
+    const R kt = k.kt;
     const R limit = p.mu_s * abs(nr.fn);
     const Vec damp = -gamma_t * g.vt_damp;
     if constexpr (force_history) {
@@ -280,20 +301,25 @@ struct SpringTangential {
   /// before the term. While the contact sticks this is the xi of the force (the pair then
   /// conserves energy to the integration error: tests/contact/test_oblique_impact.cpp); while
   /// it slides the two differ by the term's own share of F_n, at most mu^2 E*/(24 G*).
+  /// k: this step's stiffness(p, g, nr), which eval then takes too (one evaluation of k_t).
   template <class D>
   static typename D::Real normal_coupling(const Params& p, const ContactGeometry<D>& g,
-                                          const NormalResultOf<D>& nr, const State<D>& s) {
+                                          const NormalResultOf<D>& nr, const State<D>& s, const Stiff<D>& k) {
     using R = typename D::Real;
     if constexpr (potential) {
       using std::abs;
-      R gamma_t = 0.0;
-      const R kt = Stiffness::eval(p.stiffness, g, nr, gamma_t);
+      const R kt = k.kt;
       const R x2 = (s.xi + g.vt * g.dt).squaredNorm();
       const R cap = p.mu_s * abs(nr.fn) / kt;
       return 0.5 * Stiffness::dkt_ddelta(g, kt) * select(x2 < cap * cap, x2, cap * cap);
     } else {
       return R(0.0);
     }
+  }
+  template <class D>
+  static typename D::Real normal_coupling(const Params& p, const ContactGeometry<D>& g,
+                                          const NormalResultOf<D>& nr, const State<D>& s) {
+    return normal_coupling(p, g, nr, s, stiffness(p, g, nr));
   }
   /// Energy stored in the tangential spring, |F_s|^2 / (2 k_t) = k_t |xi|^2 / 2 [J].
   template <class D>
