@@ -285,7 +285,8 @@ class Simulation {
   /// Gravitational potential energy -sum m g . x [J] (zero at the origin).
   double gravitational_energy() const;
 
-  /// Elastic energy stored in all contacts (normal, tangential and rolling springs) [J].
+  /// Energy stored in all contacts: normal, tangential and rolling springs, and the potential of
+  /// the adhesion (cohesion laws: zero for a separated pair; contact/cohesion/*.hpp) [J].
   double elastic_energy();
 
   /// Critical time of the scene [s]: the smallest Rayleigh time (Hertz laws) or linear critical
