@@ -15,17 +15,8 @@
 // of threads. See docs/architecture.md.
 //
 // This header holds the class: its public API, step() (the outline above, in code) and the
-// declarations of its parts. The parts' definitions are in granule/simulation/, one file each,
-// included at the end (docs/architecture.md, "Simulation in parts"):
-//   setup.hpp             materials, particles, bodies, walls, groups, observers
-//   integrate.hpp         the step's particle passes: first kick and drift, second kick
-//   upkeep.hpp            the first list and forces, rebuilds, ghosts, the instability stops
-//   time_step.hpp         critical time, rolling stability limit, the dt checks
-//   contact_geometry.hpp  pair and wall contact geometry, tensile reach, the read-only walk
-//   pair_pass.hpp         compute_forces: colours, the scalar and packed layer loops
-//   wall_pass.hpp         particle-wall contacts, by entries, by planes, queued for packs
-//   observables.hpp       energies, frame, memory
-//   state_io.hpp          save_state, load_state_format
+// declarations of its parts; the parts' definitions are in granule/simulation/, one file each,
+// included at the end (docs/architecture.md, "Simulation in parts").
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -58,16 +49,6 @@
 #include "granule/particles/particle_store.hpp"
 #include "granule/simulation/config.hpp"
 #include "granule/simulation/force_work.hpp"
-
-// The pair loop is fully inlined in optimised builds: GCC otherwise keeps the tangential law
-// out of line and every ContactGeometry goes through memory (docs/performance.md, "The pair loop
-// fully inlined"). Not under AddressSanitizer, where the flattened loop makes GCC 12 take over
-// ten times longer to compile a test file (measured: > 10 min instead of 63 s).
-#if defined(__OPTIMIZE__) && !defined(__SANITIZE_ADDRESS__)
-#define GRANULE_FLATTEN [[gnu::flatten]]
-#else
-#define GRANULE_FLATTEN
-#endif
 
 namespace granule {
 
@@ -585,12 +566,12 @@ class Simulation {
 }  // namespace granule
 
 // The parts' member definitions (docs/architecture.md, "Simulation in parts").
-#include "granule/simulation/time_step.hpp"
-#include "granule/simulation/state_io.hpp"
-#include "granule/simulation/contact_geometry.hpp"
-#include "granule/simulation/wall_pass.hpp"
-#include "granule/simulation/pair_pass.hpp"
-#include "granule/simulation/setup.hpp"
-#include "granule/simulation/observables.hpp"
-#include "granule/simulation/upkeep.hpp"
-#include "granule/simulation/integrate.hpp"
+#include "granule/simulation/time_step.hpp"         // critical time, rolling stability limit, dt checks
+#include "granule/simulation/state_io.hpp"          // save_state, load_state_format
+#include "granule/simulation/contact_geometry.hpp"  // pair and wall geometry, tensile reach, read-only walk
+#include "granule/simulation/wall_pass.hpp"         // particle-wall contacts: by entries, planes, packs
+#include "granule/simulation/pair_pass.hpp"         // compute_forces: colours, scalar and packed layer loops
+#include "granule/simulation/setup.hpp"             // materials, particles, bodies, walls, groups, observers
+#include "granule/simulation/observables.hpp"       // energies, frame, memory
+#include "granule/simulation/upkeep.hpp"            // first list and forces, rebuilds, ghosts, stops
+#include "granule/simulation/integrate.hpp"         // the step's particle passes: kicks and drift
