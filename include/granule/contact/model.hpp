@@ -58,7 +58,10 @@ constexpr bool couples_normal() {
   }
 }
 /// A cohesion law whose contacts last to a negative overlap once formed (JKR) declares
-/// `static constexpr bool tensile = true` and `separation(Params, r_eff)`, the pull-off distance.
+/// `static constexpr bool tensile = true`, `separation(Params, r_eff)`, the pull-off distance,
+/// `elastic_overlap(Params, overlap, r_eff)`, the overlap every slot sees, and
+/// `elastic_overlap_slope(Params, elastic_overlap, r_eff)`, its derivative in the real overlap
+/// (the chain-rule factor of a couples_normal tangential law's normal term).
 template <class Law>
 constexpr bool tensile() {
   if constexpr (requires { Law::tensile; }) {
@@ -198,7 +201,14 @@ struct ContactModel {
       // step left it, so that the Coulomb limits below see the whole normal force. The
       // spring's stiffness (Mindlin: k_t and gamma_t) is computed once for both calls.
       const auto k = Tangential::stiffness(p.tangential, g, nr);
-      nr.fn += Tangential::normal_coupling(p.tangential, g, nr, s.tangential, k);
+      if constexpr (tensile) {
+        // g.overlap is delta_H = a(delta)^2 / R* (evaluate): the potential k_t(delta_H) |xi|^2/2
+        // pushes with its delta_H-derivative times d delta_H / d delta (cohesion/jkr.hpp).
+        nr.fn += Tangential::normal_coupling(p.tangential, g, nr, s.tangential, k) *
+                 Cohesion::elastic_overlap_slope(p.cohesion, g.overlap, g.r_eff);
+      } else {
+        nr.fn += Tangential::normal_coupling(p.tangential, g, nr, s.tangential, k);
+      }
       ft = Tangential::eval(p.tangential, g, nr, s.tangential, k);
     } else {
       ft = Tangential::eval(p.tangential, g, nr, s.tangential);

@@ -15,6 +15,9 @@
 // Composition: the model hands every slot the Hertzian overlap of the same contact radius,
 // a(delta)^2 / R* (elastic_overlap), so the Hertz law gives 4 E* a^3 / (3 R*) and its damping,
 // and Mindlin k_t = 8 G* a (as LAMMPS' jkr); this slot then subtracts sqrt(8 pi w E* a^3).
+// A tangential potential k_t(delta_H) |xi|^2 / 2 (SpringHistory::Potential) pushes with its
+// delta_H-derivative times d delta_H / d delta, which ContactModel takes from
+// elastic_overlap_slope (capped near the break, where it diverges).
 // 3D spheres only. Scalar only (lanes = false: a Newton loop per contact).
 #include <algorithm>
 #include <cmath>
@@ -70,6 +73,34 @@ struct JkrCohesion {
   static double elastic_overlap(const Params& p, double overlap, double r_eff) {
     const double a = contact_radius(p, overlap, r_eff);
     return a * a / r_eff;
+  }
+
+  /// Largest elastic_overlap_slope: the factor 1 / (1 - (a_c/a)^3/2) reaches it at a = 1.073 a_c.
+  static constexpr double max_elastic_overlap_slope = 10.0;
+
+  /// d delta_H / d delta, the slope of elastic_overlap in the real overlap, at the elastic
+  /// overlap delta_H = a^2 / R* [-]. With delta_H = a^2 / R* and delta(a) above,
+  ///   d delta_H / d delta = (2a/R*) / (2a/R* - sqrt(2 pi w / (E* a)) / 2) = 1 / (1 - (a_c/a)^3/2),
+  /// since sqrt(2 pi w / E*) R* / (4 a^3/2) = (a_c/a)^3/2 (a_c^3 = pi w R*^2 / (8 E*)): 6/5 at the
+  /// zero-load radius a0 (a_c^3 = a0^3 / 36), 3/2 at the load-controlled pull-off, -> 1 under
+  /// large load, and unbounded at the break a -> a_c, where d delta / da = 0 (it grows as
+  /// (delta + delta_c)^-1/2). A tangential potential k_t(delta_H) |xi|^2 / 2 has the normal force
+  /// k_t'(delta_H) |xi|^2 / 2 times this factor (ContactModel::compose), which the Coulomb cap of
+  /// |xi| alone does not bound: at the break mu |F_n| = 5/6 mu pi w R* and the coupling at full
+  /// mobilisation is mu^2 (5/24) (E*/G*) |F_n| times the factor. So the factor is capped at
+  /// max_elastic_overlap_slope = 10 (coupling then <= 10 mu^2 (5/24) (E*/G*) |F_n|, e.g. 2.5 |F_n|
+  /// at mu = 0.5, nu = 0.3), which also keeps it finite at a = a_c, where contact_radius puts
+  /// delta <= -delta_c and rounding may put a hair below a_c. The cap acts only for
+  /// a < 1.073 a_c, the last 0.26 % of |delta_c| before the break; there the coupling does less
+  /// work than the potential's force, by at most (k_t(1.073 a_c) - k_t(a_c)) |xi|^2 / 2 = 7.3 % of
+  /// the spring energy k_t(a_c) |xi|^2 / 2 that the break drops anyway, and reversibly (the
+  /// capped force is still a function of delta at fixed xi).
+  static double elastic_overlap_slope(const Params& p, double elastic_overlap, double r_eff) {
+    // (a_c/a)^3/2 = c R* / (4 a^3/2), a^3/2 = (R* delta_H)^3/4
+    const double c = std::sqrt(2.0 * std::numbers::pi * p.w / p.E_eff);
+    const double q = 0.25 * c * r_eff / std::sqrt(std::sqrt(r_eff * elastic_overlap) * r_eff * elastic_overlap);
+    const double one_minus = 1.0 - q;
+    return one_minus > 1.0 / max_elastic_overlap_slope ? 1.0 / one_minus : max_elastic_overlap_slope;
   }
 
   /// Adhesive pull sqrt(8 pi w E* a^3) [N]; g.overlap is elastic_overlap (ContactModel::evaluate).

@@ -16,6 +16,9 @@
 //                        V(delta, xi) = V_n(delta) + k_t(delta) |xi|^2 / 2,
 //                      so the normal force carries the coupling term dV/ddelta - V_n' =
 //                      k_t'(delta) |xi|^2 / 2 (normal_coupling below; ContactModel adds it).
+//                      Under JKR the slots see delta_H = a(delta)^2 / R*, not delta, and
+//                      ContactModel multiplies the term by d delta_H / d delta
+//                      (JkrCohesion::elastic_overlap_slope), the chain rule of k_t(delta_H).
 //                      Without that term the spring creates k_t' |xi|^2/2 d(delta) of energy
 //                      while the contact loads (TotalDisplacement); with it the law is
 //                      hyperelastic: conservative while it sticks, dissipative while it slides
