@@ -60,8 +60,14 @@ def load(tag):
         s["peak"][shape] = read_rows(f)[0]
     # A part stopped before its end has cases but no per-gap summary (the program writes it when
     # the part is complete): summarise the cases here, in the summary's columns.
-    for shape in sorted({c["shape"] for c in cases} - set(s["gaps"])):
-        s["gaps"][shape] = summarise_cases([c for c in cases if c["shape"] == shape])
+    # A summary that a partial run wrote (a --gap-list or --seeds subset) covers fewer cases than
+    # the directory holds: summarise the cases then, too.
+    for shape in sorted({c["shape"] for c in cases}):
+        of_shape = [c for c in cases if c["shape"] == shape and c["gap_over_d"] >= 0]
+        covered = sum(int(r["beds"]) for r in s["gaps"].get(shape, []))
+        if shape not in s["gaps"] or covered != len(of_shape):
+            s["gaps"][shape] = summarise_cases([c for c in cases if c["shape"] == shape])
+            s["peak"].pop(shape, None)
     return s
 
 
