@@ -36,7 +36,7 @@ using namespace granule;
 
 namespace {
 
-constexpr double kR = 1.25e-3, kRho = 2500.0, kE = 5.0e6, kNu = 0.2, kG = 100.0;
+constexpr double kSdsR = 1.25e-3, kSdsRho = 2500.0, kSdsE = 5.0e6, kSdsNu = 0.2, kSdsG = 100.0;
 
 template <class D>
 struct OnPlane {
@@ -49,12 +49,12 @@ struct OnPlane {
     cfg.domain.lo = Vec::Constant(-0.02);
     cfg.domain.hi = Vec::Constant(0.02);
     cfg.gravity = Vec::Zero();
-    cfg.gravity[0] = kG * std::sin(slope);
-    cfg.gravity[D::dim - 1] = -kG * std::cos(slope);
+    cfg.gravity[0] = kSdsG * std::sin(slope);
+    cfg.gravity[D::dim - 1] = -kSdsG * std::cos(slope);
     cfg.dt = dt;
-    cfg.thickness = 2.0 * kR;
+    cfg.thickness = 2.0 * kSdsR;
     sim = std::make_unique<Sim>(cfg);
-    Material m{.youngs_modulus = kE, .poisson_ratio = kNu, .density = kRho, .restitution = 0.5, .friction = 1.0};
+    Material m{.youngs_modulus = kSdsE, .poisson_ratio = kSdsNu, .density = kSdsRho, .restitution = 0.5, .friction = 1.0};
     m.rolling_friction = mu_r;
     m.rolling_damping = eta_r;
     m.rolling_stiffness = k_roll;
@@ -63,10 +63,10 @@ struct OnPlane {
     up[D::dim - 1] = 1.0;
     sim->add_wall(geometry::PlaneShape<D>(Vec::Zero(), up), wall);
     // Near the 3D Hertz rest overlap; the normal dashpot (e = 0.5) settles the rest.
-    const double mass = kRho * 4.0 / 3.0 * std::numbers::pi * kR * kR * kR;
-    const double e_eff = kE / (2.0 * (1.0 - kNu * kNu));
-    const double overlap = std::pow(mass * kG * std::cos(slope) / (4.0 / 3.0 * e_eff * std::sqrt(kR)), 2.0 / 3.0);
-    sim->add_particle(up * (kR - overlap), kR, mat);
+    const double mass = kSdsRho * 4.0 / 3.0 * std::numbers::pi * kSdsR * kSdsR * kSdsR;
+    const double e_eff = kSdsE / (2.0 * (1.0 - kSdsNu * kSdsNu));
+    const double overlap = std::pow(mass * kSdsG * std::cos(slope) / (4.0 / 3.0 * e_eff * std::sqrt(kSdsR)), 2.0 / 3.0);
+    sim->add_particle(up * (kSdsR - overlap), kSdsR, mat);
   }
   double& spin() {
     if constexpr (D::dim == 3) {
@@ -109,35 +109,35 @@ TEMPLATE_TEST_CASE("SDS rolling: small-angle oscillation period and dashpot deca
     OnPlane<D> op(k_roll, 0.8, eta, 0.0, dt);
     op.sim->run(4000);  // settle the normal bounce (20 ms)
     const auto& p = op.sim->particles();
-    const double m = p.mass[0], inertia = 1.0 / p.inv_inertia[0], a = op.lever_arm(), delta = kR - a;
-    REQUIRE(inertia == Approx(D::inertia_factor * m * kR * kR).epsilon(1e-9));
+    const double m = p.mass[0], inertia = 1.0 / p.inv_inertia[0], a = op.lever_arm(), delta = kSdsR - a;
+    REQUIRE(inertia == Approx(D::inertia_factor * m * kSdsR * kSdsR).epsilon(1e-9));
     op.launch(w0);
     std::vector<double> ups, peaks;
     record(op, 50000, ups, peaks);
     REQUIRE(ups.size() >= 3);
     const double period = (ups.back() - ups.front()) / static_cast<double>(ups.size() - 1);
-    const double kr = k_roll * kR * kR, i_contact = inertia + m * a * a;
+    const double kr = k_roll * kSdsR * kSdsR, i_contact = inertia + m * a * a;
     const double w_simple = std::sqrt(kr / i_contact);
     // The tangential spring: Mindlin k_t = 8 G* sqrt(R* delta) in 3D; in 2D read from the law.
-    const double g_eff = kE / (4.0 * (2.0 - kNu) * (1.0 + kNu));
+    const double g_eff = kSdsE / (4.0 * (2.0 - kSdsNu) * (1.0 + kSdsNu));
     contact::ContactGeometry<D> g{};
-    g.r_eff = kR;
+    g.r_eff = kSdsR;
     g.overlap = delta;
     g.m_eff = m;
     g.vn = g.vn_damp = 0.0;
-    const auto prm = contact::HertzMindlinSds::make(op.sim->materials().pair(0, 1), 2.0 * kR);
+    const auto prm = contact::HertzMindlinSds::make(op.sim->materials().pair(0, 1), 2.0 * kSdsR);
     const contact::NormalResult nr = contact::HertzNormal::eval(prm.normal, g);
     const double kt = contact::MindlinTangential::spring_dashpot(prm.tangential, g, nr).stiffness;
-    if constexpr (D::dim == 3) CHECK(kt == Approx(8.0 * g_eff * std::sqrt(kR * delta)).epsilon(1e-9));
+    if constexpr (D::dim == 3) CHECK(kt == Approx(8.0 * g_eff * std::sqrt(kSdsR * delta)).epsilon(1e-9));
     const double b = m * (kt * a * a + kr) + inertia * kt;
     const double w_slow = std::sqrt((b - std::sqrt(b * b - 4.0 * m * inertia * kt * kr)) / (2.0 * m * inertia));
-    const double sigma = eta * 2.0 * std::sqrt((inertia + m * kR * kR) * kr) / (2.0 * i_contact);
+    const double sigma = eta * 2.0 * std::sqrt((inertia + m * kSdsR * kSdsR) * kr) / (2.0 * i_contact);
     const double w_damped = std::sqrt(w_slow * w_slow - sigma * sigma);
     INFO("dim " << D::dim << " eta_r " << eta << ": period " << period << " s, 2 pi / w " << 2.0 * std::numbers::pi / w_damped
                 << " s (no k_t: " << 2.0 * std::numbers::pi / w_simple << " s), delta " << delta << " m, k_t " << kt);
     CHECK(period == Approx(2.0 * std::numbers::pi / w_damped).epsilon(1e-4));
     // The rolling angle stays far below mobilisation (K theta << mu_r r m g): the law is elastic.
-    CHECK(kr * w0 / w_simple < 1e-3 * 0.8 * kR * m * kG);
+    CHECK(kr * w0 / w_simple < 1e-3 * 0.8 * kSdsR * m * kSdsG);
     if (eta > 0.0) {
       REQUIRE(peaks.size() >= 4);
       const double measured = std::log(peaks[0] / peaks[3]) / (3.0 * period);
@@ -163,9 +163,9 @@ TEST_CASE("SDS rolling: the mobilised torque mu_r R* F_n on a slope", "[contact]
     const double w2 = op.spin(), t2 = op.sim->time();
     const auto& p = op.sim->particles();
     const double m = p.mass[0], inertia = 1.0 / p.inv_inertia[0], a = op.lever_arm();
-    const double expected = m * kG * (std::sin(slope) * a - mu_r * kR * std::cos(slope)) / (inertia + m * a * a);
+    const double expected = m * kSdsG * (std::sin(slope) * a - mu_r * kSdsR * std::cos(slope)) / (inertia + m * a * a);
     // Without the limit the same slope would roll freely: m g sin a / (I + m a^2) a.
-    const double free_rolling = m * kG * std::sin(slope) * a / (inertia + m * a * a);
+    const double free_rolling = m * kSdsG * std::sin(slope) * a / (inertia + m * a * a);
     INFO("omega' " << (w2 - w1) / (t2 - t1) << " rad/s^2, expected " << expected << ", free " << free_rolling);
     CHECK((w2 - w1) / (t2 - t1) == Approx(expected).epsilon(1e-4));
   }
@@ -183,7 +183,7 @@ TEST_CASE("SDS rolling: the mobilised torque mu_r R* F_n on a slope", "[contact]
 }
 
 TEST_CASE("SDS rolling: parameters, mixing and the time-step limit", "[contact][rolling][sds][errors]") {
-  Material a{.youngs_modulus = kE, .poisson_ratio = kNu, .density = kRho};
+  Material a{.youngs_modulus = kSdsE, .poisson_ratio = kSdsNu, .density = kSdsRho};
   a.rolling_friction = 0.1;
   a.rolling_stiffness = 2.0;
   Material b = a;
@@ -244,8 +244,8 @@ TEST_CASE("SDS rolling: parameters, mixing and the time-step limit", "[contact][
   // K = k_roll r^2, C = eta_r 2 sqrt(I_r K), I_r = I + m r^2, independent of the overlap; with
   // the contact the tangential terms lower it.
   OnPlane<Dim3> op(100.0, 0.1, 0.5, 0.0, 1e-6);
-  const double m = kRho * 4.0 / 3.0 * std::numbers::pi * kR * kR * kR, inertia = 0.4 * m * kR * kR;
-  const double kr = 100.0 * kR * kR, cr = 0.5 * 2.0 * std::sqrt(1.4 * m * kR * kR * kr);
+  const double m = kSdsRho * 4.0 / 3.0 * std::numbers::pi * kSdsR * kSdsR * kSdsR, inertia = 0.4 * m * kSdsR * kSdsR;
+  const double kr = 100.0 * kSdsR * kSdsR, cr = 0.5 * 2.0 * std::sqrt(1.4 * m * kSdsR * kSdsR * kr);
   const double w = std::sqrt(kr / inertia), zeta = cr / (2.0 * inertia * w);
   CHECK(op.sim->rolling_limit_estimate().limit == Approx(2.0 * (std::sqrt(1.0 + zeta * zeta) - zeta) / w).epsilon(1e-9));
   op.sim->step();
