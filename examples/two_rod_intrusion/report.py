@@ -313,7 +313,8 @@ def table_law(studies):
     if not leg or not leg["gaps"].get("square") or not inc:
         return "_Not run yet (`run_study.sh legacy9`)._\n"
     wi = {r["gap_over_d"]: r for r in inc["gaps"].get("square", [])}
-    both = [(wi[r["gap_over_d"]], r) for r in leg["gaps"]["square"] if r["gap_over_d"] in wi]
+    both = sorted(((wi[r["gap_over_d"]], r) for r in leg["gaps"]["square"] if r["gap_over_d"] in wi),
+                  key=lambda ab: ab[0]["gap_over_d"])
     out = ["| s/d | W, force history [J] | W, LIGGGHTS 3.8 law [J] | difference | combined s.e. |",
            "|---|---|---|---|---|"]
     for a, b in both:
