@@ -84,13 +84,11 @@ struct SjkrCohesion {
       // Gauss-Legendre on [0, 1]: nodes (1 + x_k) / 2, weights w_k / 2.
       constexpr double x[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363};
       constexpr double wt[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
-      const auto radius = [&](double dl) {  // a(delta') [m], as contact_radius_sq
-        double a2 = 2.0 * g.r_i * dl - dl * dl;
-        if (!wall) {
-          const double dd = g.r_i + g.r_j - dl, r1 = g.r_i, r2 = g.r_j;
-          a2 = (-dd + r1 + r2) * (dd - r1 + r2) * (dd + r1 - r2) * (dd + r1 + r2) / (4.0 * dd * dd);
-        }
-        return std::sqrt(std::max(0.0, a2));
+      const auto radius = [&](double dl) {  // a(delta') [m]: the same pair at overlap delta'
+        ContactGeometry<D> at = g;
+        at.overlap = dl;
+        if (!wall) at.distance = g.r_i + g.r_j - dl;
+        return std::sqrt(contact_radius_sq(at));
       };
       double integral = 0.0;  // int_0^delta a [m^2] = int_0^1 a(delta s^2) 2 delta s ds
       for (int k = 0; k < 4; ++k) {

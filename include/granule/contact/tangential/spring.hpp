@@ -319,11 +319,6 @@ struct SpringTangential {
       return R(0.0);
     }
   }
-  template <class D>
-  static typename D::Real normal_coupling(const Params& p, const ContactGeometry<D>& g,
-                                          const NormalResultOf<D>& nr, const State<D>& s) {
-    return normal_coupling(p, g, nr, s, stiffness(p, g, nr));
-  }
   /// Energy stored in the tangential spring, |F_s|^2 / (2 k_t) = k_t |xi|^2 / 2 [J].
   template <class D>
   static double energy(const Params& p, const ContactGeometry<D>& g, const NormalResult& nr,
