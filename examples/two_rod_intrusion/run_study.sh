@@ -8,7 +8,8 @@
 #              check): s/d = 0 ... 15 and a single rod, 3 beds; s/d = 3 and 15 also check 9 cm
 #   box17      the box-size check of the 13 cm box: a 17 x 17 cm box, s/d = 3 and 15, 3 beds
 #   box25      the paper's own 25 x 25 cm box (neither smaller box passes its check): one bed,
-#              s/d = 3 and 15 first, then 5, 4 and 2 (the peak), 0 and 8 on the same (cached) bed
+#              s/d = 3 and 15 first, then 5, 4 and 2 (the peak), 11 and 6 (the plateau and the
+#              fall), 0 and 8, on the same (cached) bed
 #   legacy9    the law check: LIGGGHTS 3.8's Hertz-Mindlin (HertzMindlinLegacy, the law paper 000
 #              ran with; program two_rod_intrusion_legacy) in the 9 cm box, s/d = 3, 4 and 15,
 #              3 beds, against `square` (the force history, HertzMindlinIncremental)
@@ -44,7 +45,7 @@ for tag in "${tags[@]}"; do
     rho1774) run rho1774 --shape cylinder --seeds 1 --density 1774 --gap-list 2,3 --no-single ;;
     box13) run box13 --seeds 1,2,3 --box 0.13,0.13,0.10 --gap-list 0,1,2,3,4,5,6,8,11,15 ;;
     box17) run box17 --seeds 1,2,3 --box 0.17,0.17,0.10 --gap-list 3,15 --no-single ;;
-    box25) run box25 --seeds 1 --box 0.25,0.25,0.10 --gap-list 3,15,5,4,2,0,8 --no-single ;;
+    box25) run box25 --seeds 1 --box 0.25,0.25,0.10 --gap-list 3,15,5,4,2,11,6,0,8 --no-single ;;
     legacy9) run legacy9 --seeds 1,2,3 --gap-list 3,15,4 --no-single ;;
     *) echo "unknown study tag '$tag' (square, cylinder, rho1774, box13, box17, box25, legacy9)" >&2; exit 2 ;;
   esac
