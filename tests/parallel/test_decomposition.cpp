@@ -265,6 +265,55 @@ TEST_CASE("Ghost ranks across periodic boundaries", "[parallel][decomposition]")
   }
 }
 
+TEMPLATE_TEST_CASE("Every partner within the halo width finds a ghost copy on its rank", "[parallel][decomposition]",
+                   Dim2, Dim3) {
+  // For random pairs p, q closer than w (minimum image), the rank that owns q must hold p
+  // itself (same rank, no wrap between them) or a ghost copy p + shift * L closer than w to q.
+  // Balanced cuts on skewed points, periodic along x and y, not along z.
+  using D = TestType;
+  using Vec = typename D::Vec;
+  Domain<D> box;
+  box.lo = Vec::Zero();
+  box.hi = Vec::Ones();
+  box.hi[0] = 3.0;
+  box.periodic[0] = true;
+  box.periodic[1] = true;
+  const double w = 0.15;
+  std::mt19937 rng(2028);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto point = [&] {
+    Vec p;
+    for (int k = 0; k < D::dim; ++k) p[k] = box.lo[k] + (box.hi[k] - box.lo[k]) * u(rng) * u(rng);
+    return p;
+  };
+  std::vector<Vec> x(1500);
+  for (auto& p : x) p = point();
+  const RankGrid grid = D::dim == 2 ? RankGrid{{3, 2, 1}} : RankGrid{{3, 2, 2}};
+  const auto dec = Decomposition<D>::balanced(box, grid, x, {}, w);
+  const Vec L = box.length();
+  int missing = 0, pairs = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const Vec p = dec.wrapped(point());
+    Vec d;
+    do {
+      for (int k = 0; k < D::dim; ++k) d[k] = w * (2 * u(rng) - 1);
+    } while (d.norm() >= w);
+    Vec q = p + d;
+    if (!box.periodic[D::dim - 1] && (q[D::dim - 1] < 0.0 || q[D::dim - 1] > 1.0)) continue;  // outside z
+    q = dec.wrapped(q);
+    ++pairs;
+    const int rq = dec.owner(q);
+    bool found = rq == dec.owner(p) && (p - q).norm() < w;
+    for (const auto& t : dec.halo_targets(p, w)) {
+      const Vec ghost = p + (t.shift.template cast<double>().array() * L.array()).matrix();
+      if (t.rank == rq && (ghost - q).norm() < w) found = true;
+    }
+    missing += !found;
+  }
+  CHECK(pairs > 3000);
+  CHECK(missing == 0);
+}
+
 TEST_CASE("Decomposition refuses bad input with named errors", "[parallel][decomposition]") {
   const auto cube = decomp_box3(1, 1, 1);
   CHECK_THAT(message_of<InvalidParameter>([&] { choose_grid(cube, 0); }),
