@@ -2,7 +2,7 @@
 #  1. cmake --install the granule build tree GRANULE_BUILD_DIR into the empty prefix PREFIX;
 #  2. configure CONSUMER_SOURCE_DIR (a downstream project that calls find_package(granule))
 #     in CONSUMER_BUILD_DIR with CMAKE_PREFIX_PATH=PREFIX, as the README's recipe does (Release),
-#     build it and run its programs;
+#     build it and run its programs (with GRANULE_MPI=ON also one that links granule::mpi);
 #  3. if GRANULE_SOURCE_DIR is set: configure CONSUMER_SOURCE_DIR/subdirectory (a project that
 #     add_subdirectory()s granule) in CONSUMER_BUILD_DIR-subdirectory, build and install it into
 #     PREFIX-subdirectory, and check that its program is there and granule's headers are not.
@@ -42,11 +42,15 @@ endforeach()
 run_step("configure the downstream project"
   "${CMAKE_COMMAND}" -S "${CONSUMER_SOURCE_DIR}" -B "${CONSUMER_BUILD_DIR}" -G "${GENERATOR}"
   "-DCMAKE_PREFIX_PATH=${PREFIX}" "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}"
-  -DCMAKE_BUILD_TYPE=Release)
+  -DCMAKE_BUILD_TYPE=Release "-DGRANULE_EXPECT_MPI=${GRANULE_MPI}")
 run_step("build the downstream project"
   "${CMAKE_COMMAND}" --build "${CONSUMER_BUILD_DIR}" --config Release)
 
-foreach(program consumer consumer_fftw consumer_native)
+set(programs consumer consumer_fftw consumer_native)
+if(GRANULE_MPI)
+  list(APPEND programs consumer_mpi)  # an MPI program run as one process (a singleton)
+endif()
+foreach(program IN LISTS programs)
   find_program(exe_${program} ${program} PATHS "${CONSUMER_BUILD_DIR}" "${CONSUMER_BUILD_DIR}/Release"
                NO_DEFAULT_PATH REQUIRED)
   run_step("run ${program}" "${exe_${program}}")
