@@ -353,6 +353,39 @@ def table_box(studies):
     return "\n".join(rows) + "\n"
 
 
+def verdict(studies):
+    """Issue 25's test, box by box: is the peak at s/d 2-4 and peak over plateau within the
+    paper's bound ('up to 25 %' above W beyond 11 d)?"""
+    by = {s["tag"]: s for s in studies}
+    lo, hi = PAPER["peak_gap_range"]
+    bound = PAPER["peak_over_plateau"]
+
+    def judge(gap, ratio):
+        where = "inside" if lo <= gap <= hi else "outside"
+        within = "within" if 1.0 < ratio <= bound else "outside"
+        return f"peak {where} the paper's {fmt(lo)}–{fmt(hi)}, peak / plateau {within} its bound"
+
+    out = []
+    for tag, side in (("square", "9 × 9 cm"), ("box13", "13 × 13 cm")):
+        pk = by.get(tag, {"peak": {}})["peak"].get("square")
+        if pk:
+            out.append(f"* {side} box, {int(pk['beds'])} beds, every gap: peak at s/d = {fmt(pk['peak_gap_over_d'])} "
+                       f"(parabola {fmt(pk['peak_gap_parabola'], 3)}), peak / plateau "
+                       f"{pk['peak_over_plateau']:.3f}: {judge(pk['peak_gap_over_d'], pk['peak_over_plateau'])}.")
+    b25 = by.get("box25")
+    pk = paper_box_peak(b25["gaps"]["square"]) if b25 and b25["gaps"].get("square") else None
+    if pk and pk["bracketed"]:
+        out.append(f"* 25 × 25 cm box (the paper's), 1 bed, s/d = {', '.join(fmt(g) for g in pk['gaps'])}: peak at "
+                   f"s/d = {fmt(pk['gap'])} (parabola {fmt(pk['vertex'], 3)}), peak / plateau {pk['ratio']:.3f}: "
+                   f"{judge(pk['gap'], pk['ratio'])}.")
+    elif pk:
+        out.append(f"* 25 × 25 cm box (the paper's), 1 bed: the peak is not located yet (largest W at s/d = "
+                   f"{fmt(pk['gap'])} of {', '.join(fmt(g) for g in pk['gaps'])}; it needs the gaps on both sides).")
+    if not out:
+        return "_No complete sweep yet._\n"
+    return "\n".join(out) + "\n"
+
+
 def table_law(studies):
     """The law check: W at the gaps of `legacy9` in the 9 cm box, LIGGGHTS 3.8's Hertz-Mindlin
     (the law paper 000 ran with) against the force history every other part uses."""
@@ -394,6 +427,7 @@ def blocks(studies):
     cy = by.get("cylinder", {"gaps": {}, "peak": {}})
     return {
         "paper-vs-ours": table_paper(studies),
+        "verdict": verdict(studies),
         "work-square": table_work(sq, "square"),
         "work-cylinder": table_work(cy, "cylinder"),
         "work-square-13": table_work(by.get("box13", {"gaps": {}, "peak": {}}), "square"),
