@@ -64,6 +64,8 @@ struct MpiDomains {
     std::size_t remote_begin = 0;
     /// Counters for tests and logs: particles sent away, contact histories they carried.
     std::uint64_t migrated = 0, carried_histories = 0;
+    /// Particles over all ranks at the first build.
+    std::uint64_t total = 0;
 
     bool any(bool b) const {
       int in = b ? 1 : 0, out = 0;

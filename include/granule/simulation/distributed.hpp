@@ -103,8 +103,15 @@ struct Simulation<D, Model, Search, Integrator, Parallel>::HaloHooks {
       if (kept != total || most != total)
         throw InvalidParameter("MpiDomains: the ranks did not set up the same scene (" + std::to_string(total) +
                                " particles here, " + std::to_string(kept) + " kept over all ranks)");
+      E.total = total;
       return;
     }
+    // Insertion and removal across ranks are not there yet: every rank would add the same
+    // particle (or only its owner remove one), so the count over the ranks would change.
+    if (const std::uint64_t now = E.sum(p.owned()); now != E.total)
+      throw InvalidParameter("MpiDomains: " + std::to_string(now) + " particles over the ranks where the run started "
+                             "with " + std::to_string(E.total) + "; adding or removing particles after the first "
+                             "step is not supported yet (docs/mpi.md)");
     // Migration: who leaves, with what history.
     const auto& dec = *E.decomposition;
     std::vector<int> dest(p.owned(), me);

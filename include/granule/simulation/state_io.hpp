@@ -11,6 +11,7 @@ namespace granule {
 template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class W>
 inline void Simulation<D, Model, Search, Integrator, Parallel>::save_state(W& w) {
+  static_assert(!Parallel::distributed, "distributed checkpoints are not there yet (docs/mpi.md): use gather()");
   if (!initialised_ || !list_valid_) initialise();
   const auto& p = particles_;
   w.template pod<double>(time_);
@@ -54,6 +55,7 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::load_state(R& r,
 template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class R>
 inline void Simulation<D, Model, Search, Integrator, Parallel>::load_state_format(R& r, std::uint32_t format, bool whole) {
+  static_assert(!Parallel::distributed, "distributed checkpoints are not there yet (docs/mpi.md)");
   require(format >= 3 && format <= kStateFormat, "Simulation::load_state_format", "format", format,
           "[3, " + std::to_string(kStateFormat) + "]");
   const double time = r.template pod<double>();
