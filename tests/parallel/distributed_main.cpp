@@ -11,8 +11,9 @@
 //            3. the gather gives every particle once, in id order, with the one-process fields.
 //   threads  OpenMP inside each rank (more than 2048 spheres per rank): 2 threads per rank give
 //            bitwise the 1-thread result;
-//   error    one rank's particle is thrown at a wall: that rank's InstabilityError is thrown on
-//            every rank with its message ("rank r of n: ..."), no hang (ctest timeout).
+//   error    one rank's particle is thrown at the lid, through it (the rebuild's domain check)
+//            and into it (the force pass's overlap check): that rank's InstabilityError is thrown
+//            on every rank with its message ("rank r of n: ..."), no hang (ctest timeout).
 //
 // Equality: not bitwise. A particle's contact forces are summed in an order fixed by its rank's
 // list (slots sorted by the rank's own cells), so the last bits differ from the one-process sum
@@ -263,18 +264,20 @@ void threads_case(const parallel::MpiContext& mpi) {
               same ? "bitwise equal to" : "DIFFERENT from");
 }
 
-void error_case(const parallel::MpiContext& mpi) {
+// `speed`: 200 m/s crosses the lid in a step (the rebuild's domain check stops it),
+// 40 m/s presses into it (the force pass's overlap check stops it).
+void error_case(const parallel::MpiContext& mpi, double speed, const std::string& why) {
   test_parallel::SceneOptions o;
   Distributed sim(test_parallel::scene_config(o), parallel::MpiDomains(mpi));
   test_parallel::populate(sim, o);
   sim.run(10);
-  // The highest particle (id nx*ny*nz - 1) is thrown at the lid at 200 m/s on the rank that owns it.
+  // The highest particle (id nx*ny*nz - 1) is thrown at the lid on the rank that owns it.
   const std::uint64_t victim = static_cast<std::uint64_t>(o.nx * o.ny * o.nz - 1);
   int owner = -1;
   for (std::size_t i = 0; i < sim.particles().owned(); ++i)
     if (sim.particles().id[i] == victim) {
       owner = mpi.rank();
-      sim.particles().v[i] = Vec(0.0, 200.0, 0.0);
+      sim.particles().v[i] = Vec(0.0, speed, 0.0);
     }
   owner = static_cast<int>(mpi.max(owner));
   const std::string expected = "rank " + std::to_string(owner) + " of " + std::to_string(mpi.size()) + ": ";
@@ -285,10 +288,11 @@ void error_case(const parallel::MpiContext& mpi) {
     what = e.what();
   }
   const bool ok = what.rfind(expected, 0) == 0 && what.find("Simulation unstable") != std::string::npos &&
-                  what.find("particle id " + std::to_string(victim)) != std::string::npos;
+                  what.find("particle id " + std::to_string(victim)) != std::string::npos &&
+                  what.find(why) != std::string::npos;
   check(ok, "error: expected \"" + expected + "Simulation unstable ... particle id " + std::to_string(victim) +
-                "\", got \"" + what + "\"", mpi.rank());
-  if (ok) std::printf("rank %d: stopped with: %s\n", mpi.rank(), what.substr(0, 90).c_str());
+                " ... " + why + "\", got \"" + what + "\"", mpi.rank());
+  if (ok) std::printf("rank %d: stopped with: %s\n", mpi.rank(), what.c_str());
 }
 
 }  // namespace
@@ -298,7 +302,8 @@ int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "checks";
   return mpi.run([&] {
     if (mode == "error") {
-      error_case(mpi);
+      error_case(mpi, 200.0, "left the non-periodic domain");
+      error_case(mpi, 40.0, "exceeds max_overlap_ratio");
     } else if (mode == "threads") {
       threads_case(mpi);
     } else {
