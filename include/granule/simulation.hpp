@@ -46,14 +46,18 @@
 #include "granule/neighbours/domain.hpp"
 #include "granule/neighbours/pair_list.hpp"
 #include "granule/neighbours/policies.hpp"
+#include "granule/parallel/single_process.hpp"
 #include "granule/particles/particle_store.hpp"
 #include "granule/simulation/config.hpp"
 #include "granule/simulation/force_work.hpp"
+#include "granule/simulation/gathered.hpp"
 
 namespace granule {
 
+// Parallel: parallel::SingleProcess (the default: one process, no MPI) or parallel::MpiDomains
+// (parallel/mpi_domains.hpp: domain decomposition over MPI ranks, docs/mpi.md).
 template <class D, class Model, class Search = neighbours::VerletList,
-          class Integrator = integrators::VelocityVerlet>
+          class Integrator = integrators::VelocityVerlet, class Parallel = parallel::SingleProcess>
 class Simulation {
  public:
   using Vec = typename D::Vec;
@@ -64,6 +68,7 @@ class Simulation {
   using SearchPolicy = Search;
   using IntegratorPolicy = Integrator;
   using Dimension = D;
+  using ParallelPolicy = Parallel;
   static constexpr bool kHasState = Model::template has_state<D>;
   static constexpr bool kTangentialDashpot = Model::template tangential_dashpot<D>;
   static constexpr bool kRollingDashpot = Model::template rolling_dashpot<D>;
@@ -77,7 +82,15 @@ class Simulation {
   /// than it saves, and badly so when cores are oversubscribed.
   static constexpr std::size_t kParallelMinParticles = 2048;
 
-  explicit Simulation(const SimulationConfig<D>& config) : config_(config) {
+  /// `par`: the parallel policy's set-up (parallel::MpiDomains: the MPI context and rank grid;
+  /// nothing for SingleProcess). Distributed: every rank builds the whole scene with the same
+  /// calls; the first step keeps on each rank the particles of its region (docs/mpi.md).
+  explicit Simulation(const SimulationConfig<D>& config, const Parallel& par = Parallel{})
+      : config_(config), dist_(par) {
+    if constexpr (Parallel::distributed) {
+      static_assert(!kPredictDamping, "the distributed engine does not support predicted damping yet");
+      static_assert(Search::uses_cells, "the distributed engine needs a cell-based search");
+    }
     config_.validate();
     if (Search::rebuild_every_step) {
       require(config_.skin <= 0.0, "SimulationConfig", "skin", config_.skin,
@@ -162,6 +175,10 @@ class Simulation {
 
   /// One velocity-Verlet step.
   void step() {
+    if constexpr (Parallel::distributed) {
+      step_distributed();  // simulation/distributed.hpp
+      return;
+    }
     start_if_needed();
     const double dt = config_.dt;
     update_group_velocities(time_ + 0.5 * dt);
@@ -336,8 +353,18 @@ class Simulation {
   template <class R>
   void load_state_format(R& r, std::uint32_t format, bool whole = false);
 
-  /// Rebuilds the neighbour list now (normally automatic).
+  /// Rebuilds the neighbour list now (normally automatic). Distributed: collective.
   void rebuild();
+
+  /// The owned particles of every rank on rank 0 in global-id order (other ranks: empty);
+  /// one process: its particles in id order. Distributed: collective.
+  GatheredParticles<D> gather() const;
+
+  /// This process's rank and the number of ranks (0 and 1 for one process).
+  int rank() const { return dist_.rank(); }
+  int ranks() const { return dist_.ranks(); }
+  /// The parallel policy's data (parallel::MpiDomains: decomposition, halo plan, counters).
+  const typename Parallel::template Engine<D>& parallel_engine() const { return dist_; }
 
  private:
   // Observers, and the work of one force evaluation: per-layer accumulators, the packed pass's
@@ -394,6 +421,14 @@ class Simulation {
 
   // ---- the step's upkeep: first list and forces, rebuilds, ghosts, stops (simulation/upkeep.hpp) ----
   double effective_skin() const;
+
+  // The distance the list is built to: the skin and a tensile model's pull-off separation.
+  double skin_with_reach(double skin) const;
+
+  // Rebuilds the list with the rebuild's extra steps `hooks` (neighbours::NoRebuildHooks; the
+  // distributed engine's migration and halo).
+  template <class Hooks>
+  void rebuild_list(double skin, double listed, Hooks&& hooks);
 
   void initialise();
 
@@ -526,6 +561,18 @@ class Simulation {
   void touched_mark(std::uint32_t k) { wall_touched_[k] = 1; }
   bool touched_take(std::uint32_t k);
 
+  // ---- the distributed engine (simulation/distributed.hpp; used only when Parallel::distributed) ----
+  struct HaloHooks;
+  void step_distributed();
+  void initialise_distributed();
+  void rebuild_distributed();
+  void refresh_remote_ghosts();
+  // Body and wall forces and torques summed over the ranks in rank order.
+  void reduce_wall_forces();
+  // f() on every rank; an exception on any rank is thrown on every rank (MpiContext::collective).
+  template <class F>
+  void collective(F&& f);
+
   // ---- data (every part works on these members directly) ----
   SimulationConfig<D> config_;
   MaterialTable materials_;
@@ -561,6 +608,7 @@ class Simulation {
   bool setup_evaluation_ = false;  ///< the set-up force evaluation runs: contacts see dt = 0
   bool one_material_ = false;      ///< all particles share one material (set by step() for its pair loop)
   bool parallel_ = false;
+  [[no_unique_address]] typename Parallel::template Engine<D> dist_;  ///< the policy's data
 };
 
 }  // namespace granule
@@ -575,3 +623,4 @@ class Simulation {
 #include "granule/simulation/observables.hpp"       // energies, frame, memory
 #include "granule/simulation/upkeep.hpp"            // first list and forces, rebuilds, ghosts, stops
 #include "granule/simulation/integrate.hpp"         // the step's particle passes: kicks and drift
+#include "granule/simulation/distributed.hpp"       // MPI domains: migration, halo, reductions, gather

@@ -40,6 +40,14 @@ struct WallEntry {
   std::uint64_t key() const { return (std::uint64_t(wall) << 32) | feature; }
 };
 
+/// What a rebuild does beyond the local list: nothing (one process). The distributed engine
+/// (simulation/distributed.hpp) passes its own: migration after the wrap, the halo after the sort.
+struct NoRebuildHooks {
+  static constexpr bool local_images = true;  ///< make the periodic images here (make_ghosts)
+  template <class Store> void after_wrap(Store&) {}
+  template <class Store> void after_ghosts(Store&) {}
+};
+
 template <class D, class State, bool HasState>
 class PairList {
  public:
@@ -142,13 +150,17 @@ class PairList {
   /// Rebuilds the list. `reversed(State&)` turns a pair's history into its mirror image;
   /// `collect_walls(slot, x, reach, emit)` must call emit(wall, feature) for every wall feature
   /// within `reach` of x.
-  template <class Policy, class Reverse, class CollectWalls>
+  /// `hooks` (NoRebuildHooks): after_wrap(p) may remove and add real particles (the detached
+  /// history can be extended with add_detached_row), after_ghosts(p) may append ghosts; with
+  /// local_images false no periodic images are made here.
+  template <class Policy, class Reverse, class CollectWalls, class Hooks = NoRebuildHooks>
   void rebuild(ParticleStore<D>& p, const Domain<D>& dom, double skin, Reverse&& reversed,
-               CollectWalls&& collect_walls) {
+               CollectWalls&& collect_walls, Hooks&& hooks = Hooks{}) {
     detach(p);
     domain_cache_ = dom;
     p.clear_ghosts();
     wrap(p, dom);
+    hooks.after_wrap(p);
     const std::size_t n = p.owned();
     double r_max = 0.0;
     for (std::size_t i = 0; i < n; ++i) r_max = std::max(r_max, p.radius[i]);
@@ -164,7 +176,8 @@ class PairList {
       setup_grid(dom, range);
       sort_by_cell(p, dom);
     }
-    make_ghosts(p, dom, range);
+    if constexpr (std::remove_cvref_t<Hooks>::local_images) make_ghosts(p, dom, range);
+    hooks.after_ghosts(p);
     p.trim_capacity();
     if constexpr (Policy::uses_cells) bin_all(p, dom);
 
@@ -187,6 +200,58 @@ class PairList {
   /// (0 when positions are so large that rounding eats the half skin -- then every step
   /// rebuilds; that needs |x| of about 2^23 half skins, kilometres for millimetre grains.)
   double rebuild_distance(double skin) const { return std::max(0.5 * skin - build_rounding, 0.0); }
+
+  /// Between detach() and the rebuild (a rebuild hook's after_wrap): for each particle named in
+  /// `ids` (sorted), calls f(k, key, state) for every pair history it holds -- its own row's and,
+  /// reversed, those in its partners' rows -- keyed as seen from ids[k], and w(k, entry, state)
+  /// for its wall histories. What a migrating particle carries (docs/mpi.md).
+  template <class Reverse, class F, class W>
+  void detached_histories(const std::vector<std::uint64_t>& ids, Reverse&& reversed, F&& f, W&& w) const {
+    if constexpr (HasState) {
+      if (!detached_ || old_row_begin_.empty()) return;
+      const std::size_t rows = old_row_begin_.size() - 1;
+      std::vector<std::uint64_t> row_id(rows, std::numeric_limits<std::uint64_t>::max());
+      for (std::size_t id = 0; id < old_row_of_id_.size(); ++id)
+        if (old_row_of_id_[id] != kNone && old_row_of_id_[id] < rows) row_id[old_row_of_id_[id]] = id;
+      auto index = [&](std::uint64_t id) -> std::size_t {
+        auto it = std::lower_bound(ids.begin(), ids.end(), id);
+        return it != ids.end() && *it == id ? std::size_t(it - ids.begin()) : ids.size();
+      };
+      for (std::size_t r = 0; r < rows; ++r) {
+        const std::size_t ki = index(row_id[r]);
+        for (std::uint32_t o = old_row_begin_[r]; o < old_row_begin_[r + 1]; ++o) {
+          if (ki < ids.size()) f(ki, old_key_[o], old_state_[o]);
+          const std::size_t kj = index(old_key_[o] / kImageCodes);
+          if (kj < ids.size() && row_id[r] != std::numeric_limits<std::uint64_t>::max()) {
+            State s = old_state_[o];
+            reversed(s);
+            f(kj, row_id[r] * kImageCodes + negated_code(old_key_[o] % kImageCodes), s);
+          }
+        }
+        if (ki < ids.size())
+          for (std::uint32_t o = old_wall_begin_[r]; o < old_wall_begin_[r + 1]; ++o) w(ki, old_wall_[o], old_wall_state_[o]);
+      }
+    }
+  }
+
+  /// Adds the histories a particle brought from another rank (detached_histories there) as an
+  /// old row of its own, for the rebuild's transfer; call from a rebuild hook's after_wrap.
+  void add_detached_row(std::uint64_t id, const std::vector<std::uint64_t>& keys, const std::vector<State>& states,
+                        const std::vector<WallEntry>& walls, const std::vector<State>& wall_states) {
+    if constexpr (HasState) {
+      if (old_row_begin_.empty()) old_row_begin_.assign(1, 0);
+      if (old_wall_begin_.empty()) old_wall_begin_.assign(1, 0);
+      const auto row = static_cast<std::uint32_t>(old_row_begin_.size() - 1);
+      if (old_row_of_id_.size() <= id) old_row_of_id_.resize(id + 1, kNone);
+      old_row_of_id_[id] = row;
+      old_key_.insert(old_key_.end(), keys.begin(), keys.end());
+      old_state_.insert(old_state_.end(), states.begin(), states.end());
+      old_row_begin_.push_back(static_cast<std::uint32_t>(old_key_.size()));
+      old_wall_.insert(old_wall_.end(), walls.begin(), walls.end());
+      old_wall_state_.insert(old_wall_state_.end(), wall_states.begin(), wall_states.end());
+      old_wall_begin_.push_back(static_cast<std::uint32_t>(old_wall_.size()));
+    }
+  }
 
   /// Slot of the row holding particle `id` (kNone if absent); valid until the next rebuild.
   std::uint32_t row_of_id(std::uint64_t id) const {
@@ -568,9 +633,16 @@ class PairList {
     return code;
   }
   static constexpr std::uint64_t kImageCodes = D::dim == 2 ? 25 : 125;
+  /// The code of -rel from the code of rel.
+  static std::uint64_t negated_code(std::uint64_t code) {
+    std::uint64_t out = 0, scale = 1;
+    for (int k = 0; k < D::dim; ++k, code /= 5, scale *= 5) out += ((5 - code % 5) % 5) * scale;
+    return out;
+  }
 
   static Image relative_image(const ParticleStore<D>& p, std::size_t i, std::size_t j) {
-    if (j < p.owned()) return Image(p.image[i] - p.image[j]);
+    // (A remote ghost's image counter already has its shift taken off.)
+    if (j < p.owned() || j - p.owned() >= p.local_ghosts()) return Image(p.image[i] - p.image[j]);
     const std::size_t g = j - p.owned();
     const std::uint32_t o = p.ghost_owner[g];
     return Image(p.ghost_shift[g] - p.image[o] + p.image[i]);

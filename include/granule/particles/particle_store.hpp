@@ -3,8 +3,10 @@
 // permuted when the neighbour search re-sorts particles spatially, so code that must follow a
 // particle over time uses its stable `id` (Simulation::index_of(id)).
 //
-// Slots [0, owned) are real particles; slots [owned, size) are periodic ghost images, rebuilt
-// with the neighbour list and refreshed from their owners every step.
+// Slots [0, owned) are real particles; slots [owned, size) are ghosts, rebuilt with the neighbour
+// list and refreshed every step: first the periodic images of this store's own particles
+// (ghost_owner, ghost_shift: local_ghosts() of them), then, in a distributed run (docs/mpi.md),
+// copies of other ranks' particles (remote ghosts: no owner slot here).
 #include <cstdint>
 #include <limits>
 #include <numeric>
@@ -49,6 +51,13 @@ class ParticleStore {
   std::size_t owned() const { return owned_; }
   std::size_t size() const { return x.size(); }
   std::size_t ghosts() const { return x.size() - owned_; }
+  /// Ghosts that image a particle of this store (the first ghosts; the rest are remote).
+  std::size_t local_ghosts() const { return ghost_owner.size(); }
+  /// The slot whose particle slot j shows: j for a real particle or a remote ghost, the owner's
+  /// slot for a periodic image.
+  std::size_t source(std::size_t j) const {
+    return j < owned_ || j - owned_ >= ghost_owner.size() ? j : ghost_owner[j - owned_];
+  }
 
   /// Declares how many leading slots are real particles (used when restoring a checkpoint).
   void set_owned(std::size_t n) { owned_ = n; }
@@ -118,6 +127,17 @@ class ParticleStore {
     image.push_back(image[o]);
     ghost_owner.push_back(o);
     ghost_shift.push_back(shift);
+  }
+
+  /// Appends a copy of another rank's particle (a remote ghost: after every local ghost).
+  /// `img` is the image counter as seen here: the owner's less the shift it was sent with.
+  void add_remote_ghost(const Vec& pos, const Vec& vel, const AngVec& w, double r, double m, double im,
+                        double iI, std::uint32_t mat, std::uint32_t grp, std::uint64_t pid, Motion mo,
+                        const Image& img) {
+    x.push_back(pos); v.push_back(vel); f.push_back(D::zero()); omega.push_back(w);
+    torque.push_back(D::zero_ang()); radius.push_back(r); mass.push_back(m); inv_mass.push_back(im);
+    inv_inertia.push_back(iI); material.push_back(mat); group.push_back(grp); id.push_back(pid);
+    motion.push_back(mo); image.push_back(img);
   }
 
   /// Reorders the real particles: new slot k holds old slot perm[k]. Ghosts must be cleared.

@@ -7,8 +7,8 @@
 
 namespace granule {
 
-template <class D, class Model, class Search, class Integrator>
-inline bool Simulation<D, Model, Search, Integrator>::pair_geometry(std::size_t i, std::size_t j, contact::ContactGeometry<D>& g, double reach) const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline bool Simulation<D, Model, Search, Integrator, Parallel>::pair_geometry(std::size_t i, std::size_t j, contact::ContactGeometry<D>& g, double reach) const {
   const auto& p = particles_;
   const Vec d = p.x[i] - p.x[j];
   const double rs = p.radius[i] + p.radius[j];
@@ -53,8 +53,8 @@ inline bool Simulation<D, Model, Search, Integrator>::pair_geometry(std::size_t 
   return true;
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline bool Simulation<D, Model, Search, Integrator>::wall_geometry(std::size_t i, const geometry::SurfacePoint<D>& sp, const Body<D>& b, contact::ContactGeometry<D>& g, double reach) const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline bool Simulation<D, Model, Search, Integrator, Parallel>::wall_geometry(std::size_t i, const geometry::SurfacePoint<D>& sp, const Body<D>& b, contact::ContactGeometry<D>& g, double reach) const {
   const auto& p = particles_;
   const double overlap = p.radius[i] - sp.distance;
   if constexpr (Model::tensile) {
@@ -95,8 +95,8 @@ inline bool Simulation<D, Model, Search, Integrator>::wall_geometry(std::size_t 
   return true;
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline double Simulation<D, Model, Search, Integrator>::tensile_reach(const State* h, const Params& prm, std::size_t i, std::size_t j) const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline double Simulation<D, Model, Search, Integrator, Parallel>::tensile_reach(const State* h, const Params& prm, std::size_t i, std::size_t j) const {
   if constexpr (Model::tensile) {
     if (h == nullptr || !h->contact.formed) return 0.0;
     const double ri = particles_.radius[i], rj = particles_.radius[j];
@@ -106,8 +106,8 @@ inline double Simulation<D, Model, Search, Integrator>::tensile_reach(const Stat
   }
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline double Simulation<D, Model, Search, Integrator>::tensile_wall_reach(const State* h, const Params& prm, std::size_t i) const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline double Simulation<D, Model, Search, Integrator, Parallel>::tensile_wall_reach(const State* h, const Params& prm, std::size_t i) const {
   if constexpr (Model::tensile) {
     return h == nullptr || !h->contact.formed ? 0.0 : Model::pull_off_separation(prm, particles_.radius[i]);
   } else {
@@ -115,8 +115,8 @@ inline double Simulation<D, Model, Search, Integrator>::tensile_wall_reach(const
   }
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline double Simulation<D, Model, Search, Integrator>::max_tensile_reach() const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline double Simulation<D, Model, Search, Integrator, Parallel>::max_tensile_reach() const {
   double reach = 0.0;
   if constexpr (Model::tensile) {
     double r_max = 0.0;
@@ -126,14 +126,14 @@ inline double Simulation<D, Model, Search, Integrator>::max_tensile_reach() cons
   return reach;
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline auto Simulation<D, Model, Search, Integrator>::pair_params(std::size_t i, std::size_t j) const -> const Params& {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline auto Simulation<D, Model, Search, Integrator, Parallel>::pair_params(std::size_t i, std::size_t j) const -> const Params& {
   return params_[particles_.material[i] * materials_.size() + particles_.material[j]];
 }
 
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class F>
-inline void Simulation<D, Model, Search, Integrator>::for_each_contact_geometry(F&& f) const {
+inline void Simulation<D, Model, Search, Integrator, Parallel>::for_each_contact_geometry(F&& f) const {
   const auto& p = particles_;
   contact::ContactGeometry<D> g;
   static const State kEmpty{};

@@ -5,8 +5,8 @@
 
 namespace granule {
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::start_if_needed() {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::start_if_needed() {
   if (!list_valid_) {
     initialise();
   } else if (!initialised_) {
@@ -18,9 +18,9 @@ inline void Simulation<D, Model, Search, Integrator>::start_if_needed() {
   }
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline typename Simulation<D, Model, Search, Integrator>::Drift
-Simulation<D, Model, Search, Integrator>::kick_and_drift(double dt) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline typename Simulation<D, Model, Search, Integrator, Parallel>::Drift
+Simulation<D, Model, Search, Integrator, Parallel>::kick_and_drift(double dt) {
   const double kick1 = Integrator::first_kick * dt;
   const std::size_t n = particles_.owned();
   auto& p = particles_;
@@ -56,8 +56,8 @@ Simulation<D, Model, Search, Integrator>::kick_and_drift(double dt) {
   return {!test_moves || moved != 0, n > 0 && mat_lo == mat_hi};
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::second_kick(double dt) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::second_kick(double dt) {
   const double kick2 = Integrator::second_kick * dt;
   const std::size_t n = particles_.owned();
   auto& p = particles_;

@@ -5,15 +5,15 @@
 
 namespace granule {
 
-template <class D, class Model, class Search, class Integrator>
-inline std::size_t Simulation<D, Model, Search, Integrator>::index_of(std::uint64_t id) const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline std::size_t Simulation<D, Model, Search, Integrator, Parallel>::index_of(std::uint64_t id) const {
   for (std::size_t i = 0; i < particles_.owned(); ++i)
     if (particles_.id[i] == id) return i;
   throw InvalidParameter("Simulation::index_of: id = " + std::to_string(id) + " is not a particle");
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline double Simulation<D, Model, Search, Integrator>::kinetic_energy() const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline double Simulation<D, Model, Search, Integrator, Parallel>::kinetic_energy() const {
   double e = 0.0;
   for (std::size_t i = 0; i < particles_.owned(); ++i) {
     const double m = particles_.mass[i];
@@ -23,15 +23,15 @@ inline double Simulation<D, Model, Search, Integrator>::kinetic_energy() const {
   return e;
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline double Simulation<D, Model, Search, Integrator>::gravitational_energy() const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline double Simulation<D, Model, Search, Integrator, Parallel>::gravitational_energy() const {
   double e = 0.0;
   for (std::size_t i = 0; i < particles_.owned(); ++i) e -= particles_.mass[i] * config_.gravity.dot(particles_.x[i]);
   return e;
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline double Simulation<D, Model, Search, Integrator>::elastic_energy() {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline double Simulation<D, Model, Search, Integrator, Parallel>::elastic_energy() {
   if (!initialised_ || !list_valid_) initialise();
   double e = 0.0;
   for_each_contact_geometry([&](const contact::ContactGeometry<D>& g, const Params& prm, const State& s,
@@ -41,8 +41,8 @@ inline double Simulation<D, Model, Search, Integrator>::elastic_energy() {
   return e;
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline analysis::Frame<D> Simulation<D, Model, Search, Integrator>::frame() const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline analysis::Frame<D> Simulation<D, Model, Search, Integrator, Parallel>::frame() const {
   analysis::Frame<D> fr;
   const std::size_t n = particles_.owned();
   fr.time = time_;
@@ -63,8 +63,8 @@ inline analysis::Frame<D> Simulation<D, Model, Search, Integrator>::frame() cons
   return fr;
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline std::size_t Simulation<D, Model, Search, Integrator>::memory_bytes() const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline std::size_t Simulation<D, Model, Search, Integrator, Parallel>::memory_bytes() const {
   const auto& p = particles_;
   const std::size_t per = 5 * sizeof(Vec) + 2 * sizeof(AngVec) + 4 * sizeof(double) + 2 * 4 + 8 + 1 +
                           sizeof(typename ParticleStore<D>::Image);

@@ -9,8 +9,8 @@
 
 namespace granule {
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::compute_forces(bool record, bool owned_reset, bool check_finite) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::compute_forces(bool record, bool owned_reset, bool check_finite) {
   auto& p = particles_;
   const std::size_t n = p.owned();
   const std::size_t m = p.size();
@@ -97,7 +97,7 @@ inline void Simulation<D, Model, Search, Integrator>::compute_forces(bool record
     }
   }
   // Ghost forces go back to their owners, in ghost order.
-  for (std::size_t g = 0; g < p.ghosts(); ++g) {
+  for (std::size_t g = 0; g < p.local_ghosts(); ++g) {
     const std::uint32_t o = p.ghost_owner[g];
     p.f[o] += p.f[n + g];
     p.torque[o] += p.torque[n + g];
@@ -154,8 +154,8 @@ inline void Simulation<D, Model, Search, Integrator>::compute_forces(bool record
 // velocity extrapolated with the force of the previous step, v + (a2 dt) F_old / m, which p.f
 // still holds here (the reset comes after). Ghosts copy their owners. The set-up evaluation
 // and non-free particles use v itself.
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::predict_damping_velocities() {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::predict_damping_velocities() {
   auto& p = particles_;
   const std::size_t n = p.owned();
   const double kick = setup_evaluation_ ? 0.0 : Integrator::second_kick * config_.dt;
@@ -177,9 +177,9 @@ inline void Simulation<D, Model, Search, Integrator>::predict_damping_velocities
   }
 }
 
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <bool Record>
-GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator>::process_layer(std::size_t l) {
+GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator, Parallel>::process_layer(std::size_t l) {
   auto& p = particles_;
   auto& acc = layer_acc_[l];
   const std::size_t n = p.owned();
@@ -203,7 +203,7 @@ GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator>::process_la
       State& s = kHasState ? *list_.history(l, e) : scratch;
       if (g.overlap > max_ratio * std::min(g.r_i, g.r_j) && acc.bad_row == std::numeric_limits<std::size_t>::max()) {
         acc.bad_row = i;
-        acc.bad_partner = j < n ? j : p.ghost_owner[j - n];
+        acc.bad_partner = j < n ? j : p.source(j);
         acc.bad_overlap = g.overlap;
         acc.bad_wall = false;
       }
@@ -216,7 +216,7 @@ GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator>::process_la
       if constexpr (Record) {
         analysis::ContactRecord<D> r;
         r.i = static_cast<std::uint32_t>(i);
-        r.j = static_cast<std::uint32_t>(j < n ? j : p.ghost_owner[j - n]);
+        r.j = static_cast<std::uint32_t>(j < n ? j : p.source(j));
         r.normal = g.n;
         r.branch = -g.distance * g.n;
         r.contact_point = p.x[i] - g.arm_i * g.n;
@@ -241,8 +241,8 @@ GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator>::process_la
 // prefetchers behind: +3-5 % on the 100k beds, no change at 20k (docs/performance.md, "Beds
 // larger than the cache"). Positions and radii are left to the touch scan, which reads them
 // first and in order.
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::prefetch_layer_pair(std::size_t l) const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::prefetch_layer_pair(std::size_t l) const {
   const auto& p = particles_;
   const std::size_t last = list_.layer_begin.size() - 1;
   const std::size_t a = list_.layer_begin[l], b = list_.layer_begin[std::min(l + 2, last)];
@@ -269,8 +269,8 @@ inline void Simulation<D, Model, Search, Integrator>::prefetch_layer_pair(std::s
 // it; the packs read the particles' data from the store themselves (core/lane_transpose.hpp).
 // (When the chunk still held copies of that data, copying every entry in pass 1, so that only
 // the count depended on the touch, was 5-12 % slower: the copy was bound by its stores.)
-template <class D, class Model, class Search, class Integrator>
-GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator>::process_layer_packed(std::size_t l) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator, Parallel>::process_layer_packed(std::size_t l) {
   if constexpr (kPackable) {
     using Chunk = contact::PairChunk<64, D::dim>;
     auto& p = particles_;
@@ -320,9 +320,9 @@ GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator>::process_la
 // the chunk until it is full or the material pair changes; returns the first pair not listed.
 // (A local count and plain stores: with chunk.count incremented in memory GCC reloaded it for
 // every store.)
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class Chunk>
-inline std::size_t Simulation<D, Model, Search, Integrator>::fill_chunk(Chunk& chunk, const std::uint32_t* touching, const std::uint32_t* rows, std::size_t k, std::size_t nt) const {
+inline std::size_t Simulation<D, Model, Search, Integrator, Parallel>::fill_chunk(Chunk& chunk, const std::uint32_t* touching, const std::uint32_t* rows, std::size_t k, std::size_t nt) const {
   const auto& p = particles_;
   const std::size_t nm = materials_.size();
   const std::size_t prm = p.material[rows[k]] * nm + p.material[list_.nbr[touching[k]]];
@@ -350,9 +350,9 @@ inline std::size_t Simulation<D, Model, Search, Integrator>::fill_chunk(Chunk& c
   return k;
 }
 
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class Chunk>
-inline void Simulation<D, Model, Search, Integrator>::evaluate_chunk(Chunk& chunk, LayerAccumulator& acc, std::size_t l) {
+inline void Simulation<D, Model, Search, Integrator, Parallel>::evaluate_chunk(Chunk& chunk, LayerAccumulator& acc, std::size_t l) {
   using LD = LanesOf<D>;
   using PackedState = typename Model::template State<LD>;
   auto& p = particles_;
@@ -374,7 +374,7 @@ inline void Simulation<D, Model, Search, Integrator>::evaluate_chunk(Chunk& chun
       if (b < valid) {
         const std::uint32_t j = chunk.j[k + b];
         acc.bad_row = chunk.i[k + b];
-        acc.bad_partner = j < n ? j : p.ghost_owner[j - n];
+        acc.bad_partner = j < n ? j : p.source(j);
         acc.bad_overlap = g.overlap[b];
         acc.bad_wall = false;
       }
@@ -420,9 +420,9 @@ inline void Simulation<D, Model, Search, Integrator>::evaluate_chunk(Chunk& chun
 // The doubles of a vector of small vectors, for the packed passes' raw-pointer inputs; null when
 // there are no particles (a scene of walls and bodies alone), where data()->data() would be a
 // member access through a null pointer.
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class V>
-inline const double* Simulation<D, Model, Search, Integrator>::scalars(const std::vector<V>& v) {
+inline const double* Simulation<D, Model, Search, Integrator, Parallel>::scalars(const std::vector<V>& v) {
   if constexpr (std::is_same_v<V, double>) {
     return v.empty() ? nullptr : v.data();
   } else {

@@ -6,8 +6,8 @@
 
 namespace granule {
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::set_pair(std::uint32_t a, std::uint32_t b, const PairOverride& o) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::set_pair(std::uint32_t a, std::uint32_t b, const PairOverride& o) {
   const std::string where = "Simulation::set_pair";
   const std::string range = "[0, " + std::to_string(materials_.size()) + ") (add_material first)";
   require(a < materials_.size(), where, "a", a, range);
@@ -18,8 +18,8 @@ inline void Simulation<D, Model, Search, Integrator>::set_pair(std::uint32_t a, 
   refresh_params();
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline std::uint64_t Simulation<D, Model, Search, Integrator>::add_particle(const Vec& x, double radius, std::uint32_t material, const Vec& v, std::uint32_t group, const AngVec& omega) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline std::uint64_t Simulation<D, Model, Search, Integrator, Parallel>::add_particle(const Vec& x, double radius, std::uint32_t material, const Vec& v, std::uint32_t group, const AngVec& omega) {
   const std::string where = "Simulation::add_particle";
   require(radius > 0.0 && std::isfinite(radius), where, "radius", radius, "(0, inf) m");
   require(material < materials_.size(), where, "material", material,
@@ -50,17 +50,17 @@ inline std::uint64_t Simulation<D, Model, Search, Integrator>::add_particle(cons
   return id;
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline std::uint32_t Simulation<D, Model, Search, Integrator>::add_body(const Body<D>& b) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline std::uint32_t Simulation<D, Model, Search, Integrator, Parallel>::add_body(const Body<D>& b) {
   bodies_.push_back(b);
   bodies_.back().set_velocities(time_);
   list_valid_ = false;
   return static_cast<std::uint32_t>(bodies_.size() - 1);
 }
 
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class Shape>
-inline std::uint32_t Simulation<D, Model, Search, Integrator>::add_wall(const Shape& shape, std::uint32_t material, std::uint32_t body) {
+inline std::uint32_t Simulation<D, Model, Search, Integrator, Parallel>::add_wall(const Shape& shape, std::uint32_t material, std::uint32_t body) {
   require(material < materials_.size(), "Simulation::add_wall", "material", material,
           "[0, " + std::to_string(materials_.size()) + ")");
   require(body < bodies_.size(), "Simulation::add_wall", "body", body,
@@ -70,8 +70,8 @@ inline std::uint32_t Simulation<D, Model, Search, Integrator>::add_wall(const Sh
   return static_cast<std::uint32_t>(walls_.size() - 1);
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::set_wall_active(std::uint32_t w, bool active) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::set_wall_active(std::uint32_t w, bool active) {
   require(w < walls_.size(), "Simulation::set_wall_active", "wall", w,
           "[0, " + std::to_string(walls_.size()) + ")");
   if (walls_[w].active == active) return;  // no rebuild: the run stays as it was
@@ -79,15 +79,15 @@ inline void Simulation<D, Model, Search, Integrator>::set_wall_active(std::uint3
   list_valid_ = false;
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::prescribe_group_velocity(std::uint32_t group, std::function<Vec(double)> velocity) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::prescribe_group_velocity(std::uint32_t group, std::function<Vec(double)> velocity) {
   require(static_cast<bool>(velocity), "Simulation::prescribe_group_velocity", "velocity", 0.0,
           "a callable of time");
   set_group_motion(group, Motion::Prescribed, std::move(velocity));
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::set_group_motion(std::uint32_t group, Motion mode,
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::set_group_motion(std::uint32_t group, Motion mode,
                                                                         std::function<Vec(double)> velocity) {
   list_valid_ = false;  // which pairs exist depends on the motion modes
   group_mode_resize(group);
@@ -97,9 +97,9 @@ inline void Simulation<D, Model, Search, Integrator>::set_group_motion(std::uint
     if (particles_.group[i] == group) apply_group_motion(i);
 }
 
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class Pred>
-inline void Simulation<D, Model, Search, Integrator>::assign_group(std::uint32_t group, Pred&& pred) {
+inline void Simulation<D, Model, Search, Integrator, Parallel>::assign_group(std::uint32_t group, Pred&& pred) {
   group_mode_resize(group);
   list_valid_ = false;
   for (std::size_t i = 0; i < particles_.owned(); ++i)
@@ -109,9 +109,9 @@ inline void Simulation<D, Model, Search, Integrator>::assign_group(std::uint32_t
     }
 }
 
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class Pred>
-inline std::size_t Simulation<D, Model, Search, Integrator>::remove_particles(Pred&& pred) {
+inline std::size_t Simulation<D, Model, Search, Integrator, Parallel>::remove_particles(Pred&& pred) {
   list_.detach(particles_);  // the slots the rows name change here
   particles_.clear_ghosts();
   std::vector<bool> keep(particles_.owned());
@@ -129,14 +129,14 @@ inline std::size_t Simulation<D, Model, Search, Integrator>::remove_particles(Pr
   return removed;
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::every(std::uint64_t n, std::function<void(Simulation&)> f, bool needs_contacts) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::every(std::uint64_t n, std::function<void(Simulation&)> f, bool needs_contacts) {
   require(n > 0, "Simulation::every", "n", static_cast<double>(n), "[1, inf)");
   observers_.push_back({n, std::move(f), needs_contacts});
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::check_insertion(const Vec& x, double radius, const std::string& where) const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::check_insertion(const Vec& x, double radius, const std::string& where) const {
   for (int k = 0; k < D::dim; ++k) {
     if (config_.domain.periodic[k]) continue;  // (the list refuses a period shorter than the range)
     const double half = 0.5 * (config_.domain.hi[k] - config_.domain.lo[k]);
@@ -164,24 +164,24 @@ inline void Simulation<D, Model, Search, Integrator>::check_insertion(const Vec&
   }
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline std::uint32_t Simulation<D, Model, Search, Integrator>::add_material_impl(const Material& m, bool is_wall) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline std::uint32_t Simulation<D, Model, Search, Integrator, Parallel>::add_material_impl(const Material& m, bool is_wall) {
   const std::uint32_t idx = materials_.add(m, is_wall);
   wall_material_.push_back(is_wall);
   refresh_params();
   return idx;
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::refresh_params() {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::refresh_params() {
   const std::size_t nm = materials_.size();
   params_.resize(nm * nm);
   for (std::uint32_t a = 0; a < nm; ++a)
     for (std::uint32_t b = 0; b < nm; ++b) params_[a * nm + b] = Model::make(materials_.pair(a, b), config_.thickness);
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::group_mode_resize(std::uint32_t group) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::group_mode_resize(std::uint32_t group) {
   if (group >= group_motion_.size()) {
     group_motion_.resize(group + 1, Motion::Free);
     group_velocity_.resize(group + 1);
@@ -189,8 +189,8 @@ inline void Simulation<D, Model, Search, Integrator>::group_mode_resize(std::uin
   }
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::apply_group_motion(std::size_t i) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::apply_group_motion(std::size_t i) {
   const std::uint32_t g = particles_.group[i];
   const Motion m = g < group_motion_.size() ? group_motion_[g] : Motion::Free;
   particles_.set_motion(i, m);
@@ -204,8 +204,8 @@ inline void Simulation<D, Model, Search, Integrator>::apply_group_motion(std::si
   }
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::update_group_velocities(double t) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::update_group_velocities(double t) {
   for (std::size_t g = 0; g < group_velocity_.size(); ++g)
     if (group_velocity_[g]) group_v_now_[g] = group_velocity_[g](t);
 }

@@ -8,9 +8,10 @@
 
 namespace granule {
 
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class W>
-inline void Simulation<D, Model, Search, Integrator>::save_state(W& w) {
+inline void Simulation<D, Model, Search, Integrator, Parallel>::save_state(W& w) {
+  static_assert(!Parallel::distributed, "distributed checkpoints are not there yet (docs/mpi.md): use gather()");
   if (!initialised_ || !list_valid_) initialise();
   const auto& p = particles_;
   w.template pod<double>(time_);
@@ -45,15 +46,16 @@ inline void Simulation<D, Model, Search, Integrator>::save_state(W& w) {
   w.template pod<std::uint64_t>(step_origin_);
 }
 
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class R>
-inline void Simulation<D, Model, Search, Integrator>::load_state(R& r, bool wall_states) {
+inline void Simulation<D, Model, Search, Integrator, Parallel>::load_state(R& r, bool wall_states) {
   load_state_format(r, wall_states ? kStateFormat : 3);
 }
 
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class R>
-inline void Simulation<D, Model, Search, Integrator>::load_state_format(R& r, std::uint32_t format, bool whole) {
+inline void Simulation<D, Model, Search, Integrator, Parallel>::load_state_format(R& r, std::uint32_t format, bool whole) {
+  static_assert(!Parallel::distributed, "distributed checkpoints are not there yet (docs/mpi.md)");
   require(format >= 3 && format <= kStateFormat, "Simulation::load_state_format", "format", format,
           "[3, " + std::to_string(kStateFormat) + "]");
   const double time = r.template pod<double>();

@@ -7,8 +7,8 @@
 
 namespace granule {
 
-template <class D, class Model, class Search, class Integrator>
-inline double Simulation<D, Model, Search, Integrator>::critical_time_step() const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline double Simulation<D, Model, Search, Integrator, Parallel>::critical_time_step() const {
   double tc = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < particles_.owned(); ++i) {
     const Material& m = materials_[particles_.material[i]];
@@ -28,8 +28,8 @@ inline double Simulation<D, Model, Search, Integrator>::critical_time_step() con
   return tc;
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline double Simulation<D, Model, Search, Integrator>::suggested_time_step() const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline double Simulation<D, Model, Search, Integrator, Parallel>::suggested_time_step() const {
   return std::min(config_.time_step_safety * critical_time_step(), rolling_stability_limit().limit);
 }
 
@@ -44,8 +44,8 @@ inline double Simulation<D, Model, Search, Integrator>::suggested_time_step() co
 // 2 zeta_i w_i the same sum with C_r, gamma_t. The limit is the smallest
 // damped_oscillator_stability_limit(w_i, zeta_i): dt^2 w^2 / 4 + dt zeta w <= 1, sufficient for
 // K and C that are not proportional.
-template <class D, class Model, class Search, class Integrator>
-inline auto Simulation<D, Model, Search, Integrator>::rolling_stability_limit() const -> RollingLimit {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline auto Simulation<D, Model, Search, Integrator, Parallel>::rolling_stability_limit() const -> RollingLimit {
   RollingLimit out;
   if constexpr (kRollingDashpot) {
     if (!list_valid_ || !forces_ready_) return out;
@@ -63,7 +63,7 @@ inline auto Simulation<D, Model, Search, Integrator>::rolling_stability_limit() 
       const contact::SpringDashpot roll = Model::RollingLaw::spring_dashpot(prm.rolling, g, nr);
       contact::SpringDashpot slip;
       if constexpr (kTangentialDashpot) slip = Model::TangentialLaw::spring_dashpot(prm.tangential, g, nr);
-      const std::size_t o = is_wall != 0u ? i : (j < n ? j : p.ghost_owner[j - n]);
+      const std::size_t o = is_wall != 0u ? i : p.source(j);
       const double ai = free_or_zero(i, p.inv_inertia[i]), bi = free_or_zero(i, p.inv_mass[i]);
       const double aj = is_wall != 0u ? 0.0 : free_or_zero(o, p.inv_inertia[o]);
       const double bj = is_wall != 0u ? 0.0 : free_or_zero(o, p.inv_mass[o]);
@@ -77,7 +77,7 @@ inline auto Simulation<D, Model, Search, Integrator>::rolling_stability_limit() 
         ++count[self];
       };
       add(i, ai, bi, li, bj, lj);
-      if (is_wall == 0u) add(o, aj, bj, lj, bi, li);
+      if (is_wall == 0u && o < n) add(o, aj, bj, lj, bi, li);  // (a remote ghost's row is its rank's)
     });
     // The predicted-damping integrator hands the dashpots v + dt/2 F_old/m, which doubles
     // their effective rate per step: a pure dashpot is stable for c dt <= 1 instead of 2.
@@ -100,8 +100,8 @@ inline auto Simulation<D, Model, Search, Integrator>::rolling_stability_limit() 
 // terms and the other contacts makes it an upper bound of rolling_stability_limit() at that
 // contact: a step above it is refused surely (a particle at rest on anything carries at least
 // its weight), one below it is checked again once the contacts exist.
-template <class D, class Model, class Search, class Integrator>
-inline auto Simulation<D, Model, Search, Integrator>::rolling_limit_estimate() const -> RollingEstimate {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline auto Simulation<D, Model, Search, Integrator, Parallel>::rolling_limit_estimate() const -> RollingEstimate {
   RollingEstimate out;
   if constexpr (kRollingDashpot) {
     const auto& p = particles_;
@@ -156,8 +156,8 @@ inline auto Simulation<D, Model, Search, Integrator>::rolling_limit_estimate() c
   return out;
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::check_pair_parameters() const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::check_pair_parameters() const {
   for (std::uint32_t a = 0; a < materials_.size(); ++a)
     for (std::uint32_t b = a; b < materials_.size(); ++b)
       if (!(wall_material_[a] && wall_material_[b]))
@@ -165,8 +165,8 @@ inline void Simulation<D, Model, Search, Integrator>::check_pair_parameters() co
                         "material pair ('" + materials_[a].name + "', '" + materials_[b].name + "')");
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::check_time_step() const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::check_time_step() const {
   if (config_.allow_large_time_step || particles_.owned() == 0) return;
   const double tc = critical_time_step();
   if (!std::isfinite(tc)) return;
@@ -184,8 +184,8 @@ inline void Simulation<D, Model, Search, Integrator>::check_time_step() const {
   }
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::check_rolling_time_step() const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::check_rolling_time_step() const {
   if constexpr (kRollingDashpot) {
     if (config_.allow_large_time_step || !config_.check_rolling_stability) return;
     const RollingLimit r = rolling_stability_limit();

@@ -6,20 +6,36 @@
 
 namespace granule {
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::rebuild() {
-  const double skin = effective_skin();
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::rebuild() {
+  if constexpr (Parallel::distributed) {
+    rebuild_distributed();  // simulation/distributed.hpp
+    return;
+  }
+  rebuild_list(effective_skin(), skin_with_reach(effective_skin()), neighbours::NoRebuildHooks{});
+  check_domain();
+}
+
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline double Simulation<D, Model, Search, Integrator, Parallel>::skin_with_reach(double skin) const {
+  return skin + max_tensile_reach();
+}
+
+template <class D, class Model, class Search, class Integrator, class Parallel>
+template <class Hooks>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::rebuild_list(double skin, double listed, Hooks&& hooks) {
   // A tensile model lists pairs to the pull-off separation beyond the skin (the rebuild test
   // stays at half the skin, so a pair that can still touch is always listed).
   list_.template rebuild<Search>(
-      particles_, config_.domain, skin + max_tensile_reach(), [](State& s) { Model::reverse(s); },
+      particles_, config_.domain, listed, [](State& s) { Model::reverse(s); },
       [&](std::size_t, const Vec& x, double reach, auto&& emit) {
         for (std::uint32_t w = 0; w < walls_.size(); ++w) {
           if (!walls_[w].active) continue;
           walls_[w].for_each_contact(bodies_[walls_[w].body], x, reach,
                                      [&](const geometry::SurfacePoint<D>& sp) { emit(w, sp.feature); });
         }
-      });
+      },
+      hooks);
   for (auto& b : bodies_) {
     b.displacement_since_build.setZero();
     b.rotation_since_build = 0.0;
@@ -28,11 +44,10 @@ inline void Simulation<D, Model, Search, Integrator>::rebuild() {
   parallel_ = particles_.owned() >= kParallelMinParticles;
   skin_used_ = skin;
   list_valid_ = true;
-  check_domain();
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline double Simulation<D, Model, Search, Integrator>::effective_skin() const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline double Simulation<D, Model, Search, Integrator, Parallel>::effective_skin() const {
   if (Search::rebuild_every_step) return 0.0;
   if (config_.skin >= 0.0) return config_.skin;
   double r_max = 0.0;
@@ -40,8 +55,12 @@ inline double Simulation<D, Model, Search, Integrator>::effective_skin() const {
   return 0.2 * r_max;  // 0.1 x the largest diameter
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::initialise() {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::initialise() {
+  if constexpr (Parallel::distributed) {
+    initialise_distributed();  // simulation/distributed.hpp
+    return;
+  }
   if (!initialised_) {
     check_pair_parameters();
     check_time_step();
@@ -70,8 +89,8 @@ inline void Simulation<D, Model, Search, Integrator>::initialise() {
 // set-up). The laws see dt = 0 -- no increment, no twist, the force of the history as it is --
 // and whatever they still write (e.g. the stiffness the Mindlin force form remembers) is
 // discarded: the history arrays are put back afterwards, so this holds for every law.
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::setup_forces() {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::setup_forces() {
   struct Restore {
     Simulation& sim;
     ~Restore() { sim.setup_evaluation_ = false; }
@@ -97,16 +116,16 @@ inline void Simulation<D, Model, Search, Integrator>::setup_forces() {
   }
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline bool Simulation<D, Model, Search, Integrator>::contacts_wanted(std::uint64_t step) const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline bool Simulation<D, Model, Search, Integrator, Parallel>::contacts_wanted(std::uint64_t step) const {
   if (record_next_ || record_always_) return true;
   for (const auto& o : observers_)
     if (o.needs_contacts && step % o.every == 0) return true;
   return false;
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline bool Simulation<D, Model, Search, Integrator>::body_needs_rebuild() const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline bool Simulation<D, Model, Search, Integrator, Parallel>::body_needs_rebuild() const {
   const double half = 0.5 * skin_used_;
   for (const auto& b : bodies_) {
     if (!b.moving()) continue;
@@ -122,12 +141,12 @@ inline bool Simulation<D, Model, Search, Integrator>::body_needs_rebuild() const
   return false;
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::refresh_ghosts() {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::refresh_ghosts() {
   auto& p = particles_;
   const std::size_t n = p.owned();
   const Vec L = config_.domain.length();
-  for (std::size_t g = 0; g < p.ghosts(); ++g) {
+  for (std::size_t g = 0; g < p.local_ghosts(); ++g) {
     const std::uint32_t o = p.ghost_owner[g];
     p.x[n + g] = p.x[o] + (p.ghost_shift[g].template cast<double>().array() * L.array()).matrix();
     p.v[n + g] = p.v[o];
@@ -135,16 +154,16 @@ inline void Simulation<D, Model, Search, Integrator>::refresh_ghosts() {
   }
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::check_domain() const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::check_domain() const {
   for (std::size_t i = 0; i < particles_.owned(); ++i) {
     if (!particles_.x[i].allFinite()) throw_instability(i, "its position is not finite");
     if (!config_.domain.contains(particles_.x[i])) throw_instability(i, "it left the non-periodic domain");
   }
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline bool Simulation<D, Model, Search, Integrator>::finite_state(std::size_t i) const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline bool Simulation<D, Model, Search, Integrator, Parallel>::finite_state(std::size_t i) const {
   const auto& p = particles_;
   const auto zeros = [](const auto& a) { return (a - a).sum(); };
   double s = zeros(p.f[i]) + zeros(p.x[i]) + zeros(p.v[i]);
@@ -156,8 +175,8 @@ inline bool Simulation<D, Model, Search, Integrator>::finite_state(std::size_t i
   return s == 0.0;
 }
 
-template <class D, class Model, class Search, class Integrator>
-[[noreturn]] inline void Simulation<D, Model, Search, Integrator>::throw_instability(std::size_t i, const std::string& why) const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+[[noreturn]] inline void Simulation<D, Model, Search, Integrator, Parallel>::throw_instability(std::size_t i, const std::string& why) const {
   std::ostringstream s;
   s.precision(9);
   s << "Simulation unstable at step " << step_ << " (t = " << time_ << " s): particle id "

@@ -11,16 +11,16 @@ namespace granule {
 // overlap check, and the history of features no longer touched. `use(g, state, params, wall, sp)`
 // evaluates each contact or queues it; state is null for a contact without a history slot (a
 // feature the list has no entry for) and for models without history.
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class Use>
-inline void Simulation<D, Model, Search, Integrator>::for_each_wall_contact(std::size_t i, LayerAccumulator& acc, Use&& use) {
+inline void Simulation<D, Model, Search, Integrator, Parallel>::for_each_wall_contact(std::size_t i, LayerAccumulator& acc, Use&& use) {
   for (std::uint32_t e = list_.wall_begin[i]; e < list_.wall_begin[i + 1]; ++e)
     wall_entry_contacts(i, e, acc, use);
 }
 
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class Use>
-inline void Simulation<D, Model, Search, Integrator>::wall_entry_contacts(std::size_t i, std::uint32_t e, LayerAccumulator& acc, Use& use) {
+inline void Simulation<D, Model, Search, Integrator, Parallel>::wall_entry_contacts(std::size_t i, std::uint32_t e, LayerAccumulator& acc, Use& use) {
   const std::uint32_t wall = list_.wall[e].wall;
   const Wall<D>& w = walls_[wall];
   if (const auto* plane = std::get_if<geometry::PlaneShape<D>>(&w.shape)) {
@@ -30,9 +30,9 @@ inline void Simulation<D, Model, Search, Integrator>::wall_entry_contacts(std::s
   }
 }
 
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class Use>
-inline void Simulation<D, Model, Search, Integrator>::wall_group_contacts(std::size_t i, std::uint32_t e, LayerAccumulator& acc, Use& use) {
+inline void Simulation<D, Model, Search, Integrator, Parallel>::wall_group_contacts(std::size_t i, std::uint32_t e, LayerAccumulator& acc, Use& use) {
   auto& p = particles_;
   const double max_ratio = config_.max_overlap_ratio;
   const std::uint32_t wall = list_.wall[e].wall;
@@ -81,9 +81,9 @@ inline void Simulation<D, Model, Search, Integrator>::wall_group_contacts(std::s
 // row and its slot is e): wall_group_contacts without the shape dispatch, the slot search
 // and the touch marks, in the same arithmetic (Wall::for_each_contact's pose transforms
 // and PlaneShape::closest), so results are bitwise the same.
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class Use>
-inline void Simulation<D, Model, Search, Integrator>::plane_contact(std::size_t i, std::uint32_t e, const geometry::PlaneShape<D>& plane, const Wall<D>& w, LayerAccumulator& acc, Use& use) {
+inline void Simulation<D, Model, Search, Integrator, Parallel>::plane_contact(std::size_t i, std::uint32_t e, const geometry::PlaneShape<D>& plane, const Wall<D>& w, LayerAccumulator& acc, Use& use) {
   auto& p = particles_;
   const Body<D>& b = bodies_[w.body];
   const geometry::SurfacePoint<D> sp = b.pose.to_world(plane.closest(b.pose.to_body(p.x[i])));
@@ -103,8 +103,8 @@ inline void Simulation<D, Model, Search, Integrator>::plane_contact(std::size_t 
   use(g, state, p.material[i] * materials_.size() + w.material, wall, sp);
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::note_wall_overlap(std::size_t i, std::uint32_t wall, const contact::ContactGeometry<D>& g, double max_ratio, LayerAccumulator& acc) const {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::note_wall_overlap(std::size_t i, std::uint32_t wall, const contact::ContactGeometry<D>& g, double max_ratio, LayerAccumulator& acc) const {
   if (g.overlap > max_ratio * g.r_i && acc.bad_row == std::numeric_limits<std::size_t>::max()) {
     acc.bad_row = i;
     acc.bad_partner = wall;
@@ -113,9 +113,9 @@ inline void Simulation<D, Model, Search, Integrator>::note_wall_overlap(std::siz
   }
 }
 
-template <class D, class Model, class Search, class Integrator>
+template <class D, class Model, class Search, class Integrator, class Parallel>
 template <bool Record>
-inline void Simulation<D, Model, Search, Integrator>::wall_contacts(std::size_t i, LayerAccumulator& acc, Vec& fi, AngVec& ti) {
+inline void Simulation<D, Model, Search, Integrator, Parallel>::wall_contacts(std::size_t i, LayerAccumulator& acc, Vec& fi, AngVec& ti) {
   for_each_wall_contact(i, acc, [&](const contact::ContactGeometry<D>& g, State* state, std::size_t prm,
                                     std::uint32_t wall, const geometry::SurfacePoint<D>& sp) {
     const Wall<D>& w = walls_[wall];
@@ -150,8 +150,8 @@ inline void Simulation<D, Model, Search, Integrator>::wall_contacts(std::size_t 
 // The wall contacts of rows r0..r1 into the queue, in entry order: entry by entry through
 // the list's wall_row (most rows have no wall entries, and looking for those that do cost
 // about 1 % of scene B).
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::queue_wall_contacts(std::size_t r0, std::size_t r1, LayerAccumulator& acc, WallQueue& q) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::queue_wall_contacts(std::size_t r0, std::size_t r1, LayerAccumulator& acc, WallQueue& q) {
   std::uint32_t row = 0;
   const auto queue = [&](const contact::ContactGeometry<D>& g, State* state, std::size_t prm,
                          std::uint32_t wall, const geometry::SurfacePoint<D>& sp) {
@@ -180,8 +180,8 @@ inline void Simulation<D, Model, Search, Integrator>::queue_wall_contacts(std::s
 // The packed law for the queued wall contacts; forces and torques to the particles and bodies
 // in queue order. (One out-of-line copy: inlined at its three calls into the flattened pair
 // loop it made scene A 5 % slower.)
-template <class D, class Model, class Search, class Integrator>
-[[gnu::noinline]] GRANULE_FLATTEN void Simulation<D, Model, Search, Integrator>::flush_wall_queue(WallQueue& q, LayerAccumulator& acc) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+[[gnu::noinline]] GRANULE_FLATTEN void Simulation<D, Model, Search, Integrator, Parallel>::flush_wall_queue(WallQueue& q, LayerAccumulator& acc) {
   if constexpr (kPackable && D::dim == 3) {
     using LD = Dim3Lanes;
     using PackedState = typename Model::template State<LD>;
@@ -218,8 +218,8 @@ template <class D, class Model, class Search, class Integrator>
 
 // The wall contacts of rows r0..r1 one at a time, in entry order (2D: a disk bed has few wall
 // contacts, and the packed wall law is written for 3D geometries, contact::GeometryLanes).
-template <class D, class Model, class Search, class Integrator>
-inline void Simulation<D, Model, Search, Integrator>::wall_contacts_by_entry(std::size_t r0, std::size_t r1, LayerAccumulator& acc) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::wall_contacts_by_entry(std::size_t r0, std::size_t r1, LayerAccumulator& acc) {
   auto& p = particles_;
   std::uint32_t row = 0;
   const auto use = [&](const contact::ContactGeometry<D>& g, State* state, std::size_t prm, std::uint32_t wall,
@@ -243,8 +243,8 @@ inline void Simulation<D, Model, Search, Integrator>::wall_contacts_by_entry(std
   }
 }
 
-template <class D, class Model, class Search, class Integrator>
-inline bool Simulation<D, Model, Search, Integrator>::touched_take(std::uint32_t k) {
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline bool Simulation<D, Model, Search, Integrator, Parallel>::touched_take(std::uint32_t k) {
   if (k >= wall_touched_.size()) return false;
   const bool t = wall_touched_[k] != 0;
   wall_touched_[k] = 0;

@@ -1,0 +1,156 @@
+#pragma once
+// parallel::MpiDomains: the distributed policy of Simulation (its fifth template parameter):
+// each MPI rank owns the particles in its region of the box (parallel/decomposition.hpp),
+// holds copies (ghosts) of the other ranks' particles within the halo width, and moves
+// particles that leave its region, with their contact history, at every neighbour-list rebuild.
+// The engine side is simulation/distributed.hpp; the design is docs/mpi.md.
+//
+//   granule::parallel::MpiContext mpi(argc, argv);
+//   using Sim = Simulation<Dim3, contact::HertzMindlin, neighbours::VerletList,
+//                          integrators::VelocityVerlet, parallel::MpiDomains>;
+//   Sim sim(config, parallel::MpiDomains(mpi));          // rank grid chosen (least cut area)
+//   ... the whole scene, the same calls on every rank ...
+//   sim.run(n);  auto all = sim.gather();                   // rank 0: every particle, id order
+//
+// This header holds the policy's data and its messages (the C API of MPI, through the
+// context's communicator); nothing here knows the particles' layout.
+#include <cstdint>
+#include <cstring>
+#include <optional>
+#include <vector>
+
+#include "granule/parallel/decomposition.hpp"
+#include "granule/parallel/mpi_context.hpp"
+
+namespace granule::parallel {
+
+struct MpiDomains {
+  static constexpr bool distributed = true;
+  static constexpr const char* name = "mpi";
+
+  /// `grid`: parts per axis (their product must be the number of ranks); all zero: the grid of
+  /// least cut area (choose_grid) for the halo width.
+  explicit MpiDomains(const MpiContext& context, RankGrid grid = RankGrid{{0, 0, 0}})
+      : context_(&context), grid_(grid) {}
+
+  const MpiContext& context() const { return *context_; }
+  const RankGrid& grid() const { return grid_; }
+
+  /// The per-simulation data: the decomposition, the halo plan and the messages.
+  template <class D>
+  class Engine {
+   public:
+    using Shift = Eigen::Matrix<int, D::dim, 1>;
+    struct Send {
+      std::uint32_t slot = 0;  ///< owned slot sent
+      Shift shift = Shift::Zero();  ///< periodic image it is sent in
+    };
+
+    explicit Engine(const MpiDomains& p) : context_(p.context_), grid_(p.grid_) {}
+
+    int rank() const { return context_->rank(); }
+    int ranks() const { return context_->size(); }
+    const MpiContext& context() const { return *context_; }
+    MPI_Comm comm() const { return context_->comm(); }
+    const RankGrid& requested_grid() const { return grid_; }
+
+    /// The decomposition, made at the first build from every particle (all ranks hold the
+    /// whole scene then, so all make the same without a message).
+    std::optional<Decomposition<D>> decomposition;
+    /// Halo plan of the last build: what goes to each rank, how many come from each, where
+    /// the remote ghosts start in the store.
+    std::vector<std::vector<Send>> send;
+    std::vector<std::size_t> receive;
+    std::size_t remote_begin = 0;
+    /// Counters for tests and logs: particles sent away, contact histories they carried.
+    std::uint64_t migrated = 0, carried_histories = 0;
+    /// Particles over all ranks at the first build.
+    std::uint64_t total = 0;
+
+    bool any(bool b) const {
+      int in = b ? 1 : 0, out = 0;
+      MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LOR, comm());
+      return out != 0;
+    }
+    double max(double x) const { return context().max(x); }
+    std::uint64_t sum(std::uint64_t x) const {
+      std::uint64_t out = 0;
+      MPI_Allreduce(&x, &out, 1, MPI_UINT64_T, MPI_SUM, comm());
+      return out;
+    }
+
+    /// Element-wise sum of equal-length arrays added in rank order, ((a_0 + a_1) + a_2) + ...,
+    /// the same bits on every rank (body and wall forces, docs/mpi.md).
+    void sum_in_rank_order(std::vector<double>& a) const {
+      const int n = static_cast<int>(a.size());
+      if (n == 0) return;
+      std::vector<double> all(context().root() ? a.size() * static_cast<std::size_t>(ranks()) : 0);
+      MPI_Gather(a.data(), n, MPI_DOUBLE, all.data(), n, MPI_DOUBLE, 0, comm());
+      if (context().root())
+        for (int r = 1; r < ranks(); ++r)
+          for (int k = 0; k < n; ++k) a[k] += all[static_cast<std::size_t>(r) * a.size() + k];
+      MPI_Bcast(a.data(), n, MPI_DOUBLE, 0, comm());
+    }
+
+    /// Sends out[r] to rank r, returns what every rank sent here, by source rank (sizes are
+    /// exchanged first).
+    std::vector<std::vector<char>> exchange(const std::vector<std::vector<char>>& out) const {
+      const int R = ranks();
+      std::vector<int> scount(R), rcount(R);
+      for (int r = 0; r < R; ++r) scount[r] = static_cast<int>(out[r].size());
+      MPI_Alltoall(scount.data(), 1, MPI_INT, rcount.data(), 1, MPI_INT, comm());
+      std::vector<std::vector<char>> in(R);
+      for (int r = 0; r < R; ++r) in[r].resize(static_cast<std::size_t>(rcount[r]));
+      exchange_known(out, in);
+      return in;
+    }
+
+    /// As exchange(), with the sizes of in[] already set (a fixed plan: the ghost refresh).
+    void exchange_known(const std::vector<std::vector<char>>& out, std::vector<std::vector<char>>& in) const {
+      const int R = ranks();
+      std::vector<int> sc(R), sd(R), rc(R), rd(R);
+      std::vector<char> sbuf, rbuf;
+      for (int r = 0; r < R; ++r) {
+        sd[r] = static_cast<int>(sbuf.size());
+        sc[r] = static_cast<int>(out[r].size());
+        sbuf.insert(sbuf.end(), out[r].begin(), out[r].end());
+      }
+      int total = 0;
+      for (int r = 0; r < R; ++r) {
+        rd[r] = total;
+        rc[r] = static_cast<int>(in[r].size());
+        total += rc[r];
+      }
+      rbuf.resize(static_cast<std::size_t>(total));
+      MPI_Alltoallv(sbuf.data(), sc.data(), sd.data(), MPI_BYTE, rbuf.data(), rc.data(), rd.data(), MPI_BYTE, comm());
+      for (int r = 0; r < R; ++r)
+        if (rc[r] > 0) std::memcpy(in[r].data(), rbuf.data() + rd[r], static_cast<std::size_t>(rc[r]));
+    }
+
+    /// Every rank's bytes on rank 0, in rank order (other ranks: empty).
+    std::vector<char> gather_to_root(const std::vector<char>& mine) const {
+      const int R = ranks();
+      int n = static_cast<int>(mine.size());
+      std::vector<int> counts(context().root() ? R : 0), displ(context().root() ? R : 0);
+      MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm());
+      std::vector<char> all;
+      if (context().root()) {
+        int total = 0;
+        for (int r = 0; r < R; ++r) { displ[r] = total; total += counts[r]; }
+        all.resize(static_cast<std::size_t>(total));
+      }
+      MPI_Gatherv(mine.data(), n, MPI_BYTE, all.data(), counts.data(), displ.data(), MPI_BYTE, 0, comm());
+      return all;
+    }
+
+   private:
+    const MpiContext* context_;
+    RankGrid grid_;
+  };
+
+ private:
+  const MpiContext* context_;
+  RankGrid grid_;
+};
+
+}  // namespace granule::parallel

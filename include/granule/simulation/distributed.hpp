@@ -1,0 +1,421 @@
+#pragma once
+// Simulation, part: the distributed engine (Parallel = parallel::MpiDomains; docs/mpi.md). Every
+// member here is used only behind `if constexpr (Parallel::distributed)`, so a one-process
+// program never instantiates it and needs no MPI header.
+//
+// A rank's store holds its owned particles, then the periodic images of its own particles along
+// an axis it spans alone (local ghosts), then copies of other ranks' particles within the halo
+// width w = 2 r_max + skin (+ pull-off reach) of its region (remote ghosts), periodic images
+// across ranks included. At every rebuild, decided by all ranks together (the largest
+// displacement test is OR-reduced), particles that left the region go to their new owner with
+// their whole state and the history of every contact they hold, keyed by the partner's global id
+// and the relative periodic image (PairList::detached_histories / add_detached_row); then the
+// halo is rebuilt. Between rebuilds only x, v and omega of the ghosts travel, in the order of the
+// last build (a fixed plan). A pair of an owned particle and a remote ghost is evaluated on both
+// ranks, each keeping the force on its own particle. Body and wall forces are summed over the
+// ranks in rank order. Local work that can throw runs in MpiContext::collective, so an error on
+// one rank is thrown on every rank with that rank's message.
+//
+// Set-up: every rank builds the whole scene with the same calls; the first build makes the
+// decomposition from all particles (the same on every rank, no message) and keeps each rank's own.
+// Included by granule/simulation.hpp at its end: include that header, not this one.
+#include <cstring>
+#include <type_traits>
+
+#include "granule/parallel/decomposition.hpp"  // no MPI: the cuts are pure functions
+
+namespace granule {
+
+namespace simulation_parts {
+
+// Bytes for the messages: scalars, enums and Eigen vectors (component by component), and the
+// contact histories as they lie in memory (plain structs of doubles and fixed-size vectors).
+struct Packer {
+  std::vector<char>& b;
+  template <class T>
+  void put(const T& v) {
+    if constexpr (std::is_arithmetic_v<T> || std::is_enum_v<T>) {
+      const char* p = reinterpret_cast<const char*>(&v);
+      b.insert(b.end(), p, p + sizeof(T));
+    } else if constexpr (requires { v.size(); v[0]; }) {
+      for (Eigen::Index k = 0; k < v.size(); ++k) put(v[k]);
+    } else {
+      // (A contact history: plain data, Eigen vectors of fixed size included.)
+      const char* p = reinterpret_cast<const char*>(&v);
+      b.insert(b.end(), p, p + sizeof(T));
+    }
+  }
+};
+
+struct Unpacker {
+  const char* p;
+  const char* end;
+  template <class T>
+  void get(T& v) {
+    if constexpr (std::is_arithmetic_v<T> || std::is_enum_v<T>) {
+      std::memcpy(&v, p, sizeof(T));
+      p += sizeof(T);
+    } else if constexpr (requires { v.size(); v[0]; }) {
+      for (Eigen::Index k = 0; k < v.size(); ++k) get(v[k]);
+    } else {
+      std::memcpy(static_cast<void*>(&v), p, sizeof(T));
+      p += sizeof(T);
+    }
+  }
+  template <class T>
+  T take() {
+    T v{};
+    get(v);
+    return v;
+  }
+  bool done() const { return p >= end; }
+};
+
+}  // namespace simulation_parts
+
+// The rebuild's extra steps: migration after the wrap, the halo after the sort.
+template <class D, class Model, class Search, class Integrator, class Parallel>
+struct Simulation<D, Model, Search, Integrator, Parallel>::HaloHooks {
+  Simulation& sim;
+  double w;  // halo width
+  static constexpr bool local_images = false;  // the decomposition says which images stay local
+
+  void after_wrap(ParticleStore<D>& p) {
+    auto& E = sim.dist_;
+    sim.collective([&] { sim.check_domain(); });
+    const int me = E.rank(), R = E.ranks();
+    if (!E.decomposition) {
+      // First build: every rank holds the whole scene.
+      const std::uint64_t total = p.owned();
+      sim.collective([&] {
+        std::vector<Vec> xs(p.x.begin(), p.x.begin() + static_cast<std::ptrdiff_t>(p.owned()));
+        parallel::RankGrid grid = E.requested_grid();
+        if (grid.parts[0] == 0) grid = parallel::choose_grid(sim.config_.domain, R, w);
+        require(grid.ranks() == R, "MpiDomains", "rank grid parts", grid.ranks(),
+                "= the number of ranks (" + std::to_string(R) + ")");
+        E.decomposition.emplace(parallel::Decomposition<D>::balanced(sim.config_.domain, grid, xs, {}, w));
+        std::vector<bool> keep(p.owned());
+        for (std::size_t i = 0; i < p.owned(); ++i) keep[i] = E.decomposition->owner(p.x[i]) == me;
+        p.remove_if_not(keep);
+      });
+      const std::uint64_t kept = E.sum(p.owned());
+      const std::uint64_t most = static_cast<std::uint64_t>(E.max(static_cast<double>(total)));
+      if (kept != total || most != total)
+        throw InvalidParameter("MpiDomains: the ranks did not set up the same scene (" + std::to_string(total) +
+                               " particles here, " + std::to_string(kept) + " kept over all ranks)");
+      E.total = total;
+      return;
+    }
+    // Insertion and removal across ranks are not there yet: every rank would add the same
+    // particle (or only its owner remove one), so the count over the ranks would change.
+    if (const std::uint64_t now = E.sum(p.owned()); now != E.total)
+      throw InvalidParameter("MpiDomains: " + std::to_string(now) + " particles over the ranks where the run started "
+                             "with " + std::to_string(E.total) + "; adding or removing particles after the first "
+                             "step is not supported yet (docs/mpi.md)");
+    // Migration: who leaves, with what history.
+    const auto& dec = *E.decomposition;
+    std::vector<int> dest(p.owned(), me);
+    std::vector<std::uint64_t> ids;
+    for (std::size_t i = 0; i < p.owned(); ++i) {
+      dest[i] = dec.owner(p.x[i]);
+      if (dest[i] != me) ids.push_back(p.id[i]);
+    }
+    std::sort(ids.begin(), ids.end());
+    struct Carried {
+      std::vector<std::uint64_t> keys;
+      std::vector<State> states;
+      std::vector<neighbours::WallEntry> walls;
+      std::vector<State> wall_states;
+    };
+    std::vector<Carried> carried(ids.size());
+    if constexpr (kHasState) {
+      sim.list_.detached_histories(
+          ids, [](State& s) { Model::reverse(s); },
+          [&](std::size_t k, std::uint64_t key, const State& s) {
+            carried[k].keys.push_back(key);
+            carried[k].states.push_back(s);
+          },
+          [&](std::size_t k, const neighbours::WallEntry& e, const State& s) {
+            carried[k].walls.push_back(e);
+            carried[k].wall_states.push_back(s);
+          });
+    }
+    std::vector<std::vector<char>> out(static_cast<std::size_t>(R));
+    std::vector<bool> keep(p.owned(), true);
+    for (std::size_t i = 0; i < p.owned(); ++i) {
+      if (dest[i] == me) continue;
+      keep[i] = false;
+      const std::size_t k = static_cast<std::size_t>(std::lower_bound(ids.begin(), ids.end(), p.id[i]) - ids.begin());
+      simulation_parts::Packer b{out[static_cast<std::size_t>(dest[i])]};
+      b.put(p.x[i]); b.put(p.v[i]); b.put(p.f[i]); b.put(p.omega[i]); b.put(p.torque[i]);
+      b.put(p.radius[i]); b.put(p.mass[i]); b.put(p.inv_mass[i]); b.put(p.inv_inertia[i]);
+      b.put(p.material[i]); b.put(p.group[i]); b.put(p.id[i]); b.put(p.motion[i]); b.put(p.image[i]);
+      const Carried& c = carried[k];
+      b.put(static_cast<std::uint64_t>(c.keys.size()));
+      for (std::size_t h = 0; h < c.keys.size(); ++h) { b.put(c.keys[h]); b.put(c.states[h]); }
+      b.put(static_cast<std::uint64_t>(c.walls.size()));
+      for (std::size_t h = 0; h < c.walls.size(); ++h) {
+        b.put(c.walls[h].wall); b.put(c.walls[h].feature); b.put(c.wall_states[h]);
+      }
+    }
+    p.remove_if_not(keep);
+    E.migrated += ids.size();
+    for (const auto& c : carried) E.carried_histories += c.keys.size() + c.walls.size();
+    const auto in = E.exchange(out);
+    for (int r = 0; r < R; ++r) {
+      simulation_parts::Unpacker u{in[r].data(), in[r].data() + in[r].size()};
+      while (!u.done()) {
+        const Vec x = u.take<Vec>(), v = u.take<Vec>(), f = u.take<Vec>();
+        const AngVec om = u.take<AngVec>(), tq = u.take<AngVec>();
+        const double rad = u.take<double>(), m = u.take<double>(), im = u.take<double>(), iI = u.take<double>();
+        const auto mat = u.take<std::uint32_t>(), grp = u.take<std::uint32_t>();
+        const auto pid = u.take<std::uint64_t>();
+        const auto mo = u.take<Motion>();
+        const auto img = u.take<typename ParticleStore<D>::Image>();
+        const std::size_t i = p.add(x, v, rad, m, mat, grp, pid);
+        p.f[i] = f; p.omega[i] = om; p.torque[i] = tq; p.inv_mass[i] = im; p.inv_inertia[i] = iI;
+        p.motion[i] = mo; p.image[i] = img;
+        Carried c;
+        c.keys.resize(u.take<std::uint64_t>());
+        c.states.resize(c.keys.size());
+        for (std::size_t h = 0; h < c.keys.size(); ++h) { u.get(c.keys[h]); u.get(c.states[h]); }
+        c.walls.resize(u.take<std::uint64_t>());
+        c.wall_states.resize(c.walls.size());
+        for (std::size_t h = 0; h < c.walls.size(); ++h) {
+          u.get(c.walls[h].wall); u.get(c.walls[h].feature); u.get(c.wall_states[h]);
+        }
+        sim.list_.add_detached_row(pid, c.keys, c.states, c.walls, c.wall_states);
+      }
+    }
+  }
+
+  void after_ghosts(ParticleStore<D>& p) {
+    auto& E = sim.dist_;
+    const auto& dec = *E.decomposition;
+    const int me = E.rank(), R = E.ranks();
+    const Vec L = sim.config_.domain.length();
+    Vec lo, hi;
+    dec.region(me, lo, hi);
+    E.send.assign(static_cast<std::size_t>(R), {});
+    for (std::size_t i = 0; i < p.owned(); ++i) {
+      const Vec xi = p.x[i];
+      bool near = false;
+      for (int k = 0; k < D::dim; ++k) near = near || xi[k] - lo[k] < w || hi[k] - xi[k] < w;
+      if (!near) continue;  // deeper than w inside the region: nobody needs it
+      for (const auto& t : dec.halo_targets(xi, w)) {
+        if (t.rank == me) {
+          // Own periodic image, along an axis this rank spans alone: as make_ghosts, only the
+          // shifts in the positive half (first non-zero component +1), so that each periodic
+          // pair is listed once.
+          int first = 0;
+          for (int k = 0; k < D::dim && first == 0; ++k) first = t.shift[k];
+          if (first > 0) p.add_ghost(static_cast<std::uint32_t>(i), t.shift, L);
+        } else {
+          E.send[static_cast<std::size_t>(t.rank)].push_back({static_cast<std::uint32_t>(i), t.shift});
+        }
+      }
+    }
+    std::vector<std::vector<char>> out(static_cast<std::size_t>(R));
+    for (int r = 0; r < R; ++r) {
+      simulation_parts::Packer b{out[static_cast<std::size_t>(r)]};
+      for (const auto& s : E.send[static_cast<std::size_t>(r)]) {
+        const std::size_t i = s.slot;
+        b.put(Vec(p.x[i] + (s.shift.template cast<double>().array() * L.array()).matrix()));
+        b.put(p.v[i]); b.put(p.omega[i]); b.put(p.radius[i]); b.put(p.mass[i]); b.put(p.inv_mass[i]);
+        b.put(p.inv_inertia[i]); b.put(p.material[i]); b.put(p.group[i]); b.put(p.id[i]); b.put(p.motion[i]);
+        b.put(typename ParticleStore<D>::Image(p.image[i] - s.shift));
+      }
+    }
+    const auto in = E.exchange(out);
+    E.remote_begin = p.size();
+    E.receive.assign(static_cast<std::size_t>(R), 0);
+    for (int r = 0; r < R; ++r) {
+      simulation_parts::Unpacker u{in[r].data(), in[r].data() + in[r].size()};
+      while (!u.done()) {
+        const Vec x = u.take<Vec>(), v = u.take<Vec>();
+        const AngVec om = u.take<AngVec>();
+        const double rad = u.take<double>(), m = u.take<double>(), im = u.take<double>(), iI = u.take<double>();
+        const auto mat = u.take<std::uint32_t>(), grp = u.take<std::uint32_t>();
+        const auto pid = u.take<std::uint64_t>();
+        const auto mo = u.take<Motion>();
+        const auto img = u.take<typename ParticleStore<D>::Image>();
+        p.add_remote_ghost(x, v, om, rad, m, im, iI, mat, grp, pid, mo, img);
+        ++E.receive[static_cast<std::size_t>(r)];
+      }
+    }
+  }
+};
+
+template <class D, class Model, class Search, class Integrator, class Parallel>
+template <class F>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::collective(F&& f) {
+  dist_.context().collective(std::forward<F>(f));
+}
+
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::rebuild_distributed() {
+  double r_local = 0.0;
+  for (std::size_t i = 0; i < particles_.owned(); ++i) r_local = std::max(r_local, particles_.radius[i]);
+  const double r_max = dist_.max(r_local);
+  const double skin = Search::rebuild_every_step ? 0.0 : (config_.skin >= 0.0 ? config_.skin : 0.2 * r_max);
+  const double listed = dist_.max(skin_with_reach(skin));
+  const double w = 2.0 * r_max + listed;
+  HaloHooks hooks{*this, w};
+  rebuild_list(skin, listed, hooks);
+}
+
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::refresh_remote_ghosts() {
+  auto& E = dist_;
+  auto& p = particles_;
+  const int R = E.ranks();
+  const Vec L = config_.domain.length();
+  constexpr std::size_t per = sizeof(double) * (2 * D::dim + (D::dim == 3 ? 3 : 1));
+  std::vector<std::vector<char>> out(static_cast<std::size_t>(R)), in(static_cast<std::size_t>(R));
+  for (int r = 0; r < R; ++r) {
+    auto& b = out[static_cast<std::size_t>(r)];
+    b.reserve(per * E.send[static_cast<std::size_t>(r)].size());
+    simulation_parts::Packer pk{b};
+    for (const auto& s : E.send[static_cast<std::size_t>(r)]) {
+      pk.put(Vec(p.x[s.slot] + (s.shift.template cast<double>().array() * L.array()).matrix()));
+      pk.put(p.v[s.slot]);
+      pk.put(p.omega[s.slot]);
+    }
+    in[static_cast<std::size_t>(r)].resize(per * E.receive[static_cast<std::size_t>(r)]);
+  }
+  E.exchange_known(out, in);
+  std::size_t g = E.remote_begin;
+  for (int r = 0; r < R; ++r) {
+    simulation_parts::Unpacker u{in[r].data(), in[r].data() + in[r].size()};
+    while (!u.done()) {
+      u.get(p.x[g]);
+      u.get(p.v[g]);
+      u.get(p.omega[g]);
+      ++g;
+    }
+  }
+}
+
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::reduce_wall_forces() {
+  std::vector<double> a;
+  auto put = [&](const auto& v) {
+    if constexpr (std::is_arithmetic_v<std::decay_t<decltype(v)>>) {
+      a.push_back(v);
+    } else {
+      for (Eigen::Index k = 0; k < v.size(); ++k) a.push_back(v[k]);
+    }
+  };
+  for (const auto& b : bodies_) { put(b.force); put(b.torque); }
+  for (const auto& w : walls_) { put(w.force); put(w.torque); }
+  dist_.sum_in_rank_order(a);
+  std::size_t k = 0;
+  auto get = [&](auto& v) {
+    if constexpr (std::is_arithmetic_v<std::decay_t<decltype(v)>>) {
+      v = a[k++];
+    } else {
+      for (Eigen::Index c = 0; c < v.size(); ++c) v[c] = a[k++];
+    }
+  };
+  for (auto& b : bodies_) { get(b.force); get(b.torque); }
+  for (auto& w : walls_) { get(w.force); get(w.torque); }
+}
+
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::initialise_distributed() {
+  if (!initialised_) collective([&] {
+      check_pair_parameters();
+      check_time_step();
+    });
+  rebuild_distributed();
+  update_group_velocities(time_);
+  for (auto& b : bodies_) b.set_velocities(time_);
+  if (forces_ready_) {
+    initialised_ = true;
+    return;
+  }
+  forces_ready_ = true;
+  const bool pending = record_next_;
+  collective([&] { setup_forces(); });
+  reduce_wall_forces();
+  record_next_ = pending;
+  initialised_ = true;
+  collective([&] { check_rolling_time_step(); });
+}
+
+// step() of a distributed run: the same outline, with the rebuild decided by all ranks, the
+// remote ghosts refreshed, the body and wall forces summed over the ranks and every check
+// collective.
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::step_distributed() {
+  if (!list_valid_) {
+    initialise_distributed();
+  } else if (!initialised_) {
+    collective([&] {
+      check_time_step();
+      check_rolling_time_step();
+    });
+    initialised_ = true;
+  }
+  const double dt = config_.dt;
+  update_group_velocities(time_ + 0.5 * dt);
+  const Drift drift = kick_and_drift(dt);
+  for (auto& b : bodies_) b.advance(time_, dt);
+  ++step_;
+  time_ = time_origin_ + static_cast<double>(step_ - step_origin_) * dt;
+  const bool record = contacts_wanted(step_);
+  if (dist_.any(drift.list_stale) || body_needs_rebuild()) {
+    rebuild_distributed();
+  } else {
+    refresh_ghosts();
+    refresh_remote_ghosts();
+  }
+  collective([&] {
+    struct Clear {
+      bool& flag;
+      ~Clear() { flag = false; }
+    } clear{one_material_};
+    one_material_ = drift.one_material;
+    compute_forces(record, /*owned_reset=*/kResetInDrift, /*check_finite=*/false);
+  });
+  reduce_wall_forces();
+  update_group_velocities(time_);
+  collective([&] { second_kick(dt); });
+  for (auto& b : bodies_)
+    b.work -= (b.force.dot(b.current_velocity) + D::dot(b.torque, b.current_angular_velocity)) * dt;
+  if (config_.check_rolling_stability && config_.stability_check_interval > 0 &&
+      step_ % config_.stability_check_interval == 0)
+    collective([&] { check_rolling_time_step(); });
+  for (auto& o : observers_)
+    if (step_ % o.every == 0) o.f(*this);
+}
+
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline GatheredParticles<D> Simulation<D, Model, Search, Integrator, Parallel>::gather() const {
+  GatheredParticles<D> g;
+  if constexpr (!Parallel::distributed) {
+    g.append(particles_);
+  } else {
+    const auto& p = particles_;
+    std::vector<char> mine;
+    simulation_parts::Packer b{mine};
+    for (std::size_t i = 0; i < p.owned(); ++i) {
+      b.put(p.id[i]); b.put(p.x[i]); b.put(p.v[i]); b.put(p.f[i]); b.put(p.omega[i]); b.put(p.torque[i]);
+      b.put(p.radius[i]); b.put(p.mass[i]); b.put(p.material[i]); b.put(p.group[i]); b.put(p.motion[i]);
+      b.put(p.image[i]);
+    }
+    const std::vector<char> all = dist_.gather_to_root(mine);
+    simulation_parts::Unpacker u{all.data(), all.data() + all.size()};
+    while (!u.done()) {
+      g.id.push_back(u.take<std::uint64_t>()); g.x.push_back(u.take<Vec>()); g.v.push_back(u.take<Vec>());
+      g.f.push_back(u.take<Vec>()); g.omega.push_back(u.take<AngVec>()); g.torque.push_back(u.take<AngVec>());
+      g.radius.push_back(u.take<double>()); g.mass.push_back(u.take<double>());
+      g.material.push_back(u.take<std::uint32_t>()); g.group.push_back(u.take<std::uint32_t>());
+      g.motion.push_back(u.take<Motion>()); g.image.push_back(u.take<typename ParticleStore<D>::Image>());
+    }
+  }
+  g.sort_by_id();
+  return g;
+}
+
+}  // namespace granule
