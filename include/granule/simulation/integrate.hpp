@@ -18,6 +18,11 @@ inline void Simulation<D, Model, Search, Integrator>::start_if_needed() {
   }
 }
 
+// Both passes read and write the particle arrays through raw pointers copied into the loop's
+// lambda, and each loop runs a local copy of that lambda: through the vectors (or through
+// pointers whose address a parallel region had seen) GCC reloaded every array's data pointer
+// after each store, since a store to a double might have changed it as far as it could tell.
+// One thread (below kParallelMinParticles) runs the plain loop, without a parallel region.
 template <class D, class Model, class Search, class Integrator>
 inline typename Simulation<D, Model, Search, Integrator>::Drift
 Simulation<D, Model, Search, Integrator>::kick_and_drift(double dt) {
@@ -26,32 +31,56 @@ Simulation<D, Model, Search, Integrator>::kick_and_drift(double dt) {
   auto& p = particles_;
   const double lim = list_.rebuild_distance(skin_used_), lim2 = lim * lim;
   const bool test_moves = !Search::rebuild_every_step && list_.x_at_build.size() == n;
+  Vec* const x = p.x.data();
+  Vec* const v = p.v.data();
+  AngVec* const omega = p.omega.data();
+  Vec* const f = p.f.data();
+  AngVec* const torque = p.torque.data();
+  const double* const mass = p.mass.data();
+  const double* const inv_mass = p.inv_mass.data();
+  const double* const inv_inertia = p.inv_inertia.data();
+  const std::uint32_t* const material = p.material.data();
+  const Motion* const motion = p.motion.data();
+  const auto* const group = p.group.data();
+  const Vec* const group_v = group_v_now_.data();
+  const auto* const x_build = list_.x_at_build.data();
+  const Vec gravity = config_.gravity;
+  const auto particle = [=](std::size_t i, int& moved, std::uint32_t& mat_lo, std::uint32_t& mat_hi) {
+    mat_lo = std::min(mat_lo, material[i]);
+    mat_hi = std::max(mat_hi, material[i]);
+    switch (motion[i]) {
+      case Motion::Free:
+        v[i] += kick1 * inv_mass[i] * f[i];
+        omega[i] += (kick1 * inv_inertia[i]) * torque[i];
+        x[i] += dt * v[i];
+        if constexpr (kResetInDrift) f[i] = mass[i] * gravity;
+        break;
+      case Motion::Prescribed:
+        v[i] = group_v[group[i]];
+        x[i] += dt * v[i];
+        if constexpr (kResetInDrift) f[i].setZero();
+        break;
+      case Motion::Frozen:
+        if constexpr (kResetInDrift) f[i].setZero();
+        break;
+    }
+    if constexpr (kResetInDrift) torque[i] = D::zero_ang();
+    if (test_moves) moved |= (x[i] - x_build[i].template cast<double>()).squaredNorm() > lim2;
+  };
   int moved = 0;
   // The range of particle materials: with one material the packed loop need not look up
   // each pair's (ghosts carry their owners' material).
   std::uint32_t mat_lo = std::numeric_limits<std::uint32_t>::max(), mat_hi = 0;
-#pragma omp parallel for schedule(static) reduction(| : moved) reduction(min : mat_lo) reduction(max : mat_hi) if (parallel_)
-  for (std::size_t i = 0; i < n; ++i) {
-    mat_lo = std::min(mat_lo, p.material[i]);
-    mat_hi = std::max(mat_hi, p.material[i]);
-    switch (p.motion[i]) {
-      case Motion::Free:
-        p.v[i] += kick1 * p.inv_mass[i] * p.f[i];
-        p.omega[i] += (kick1 * p.inv_inertia[i]) * p.torque[i];
-        p.x[i] += dt * p.v[i];
-        if constexpr (kResetInDrift) p.f[i] = p.mass[i] * config_.gravity;
-        break;
-      case Motion::Prescribed:
-        p.v[i] = group_v_now_[p.group[i]];
-        p.x[i] += dt * p.v[i];
-        if constexpr (kResetInDrift) p.f[i].setZero();
-        break;
-      case Motion::Frozen:
-        if constexpr (kResetInDrift) p.f[i].setZero();
-        break;
+  if (parallel_) {
+#pragma omp parallel reduction(| : moved) reduction(min : mat_lo) reduction(max : mat_hi)
+    {
+      const auto local = particle;  // (a copy per thread: the shared one is read through memory)
+#pragma omp for schedule(static)
+      for (std::size_t i = 0; i < n; ++i) local(i, moved, mat_lo, mat_hi);
     }
-    if constexpr (kResetInDrift) p.torque[i] = D::zero_ang();
-    if (test_moves) moved |= (p.x[i] - list_.x_at_build[i].template cast<double>()).squaredNorm() > lim2;
+  } else {
+    const auto local = particle;
+    for (std::size_t i = 0; i < n; ++i) local(i, moved, mat_lo, mat_hi);
   }
   return {!test_moves || moved != 0, n > 0 && mat_lo == mat_hi};
 }
@@ -61,21 +90,48 @@ inline void Simulation<D, Model, Search, Integrator>::second_kick(double dt) {
   const double kick2 = Integrator::second_kick * dt;
   const std::size_t n = particles_.owned();
   auto& p = particles_;
+  const Vec* const x = p.x.data();
+  Vec* const v = p.v.data();
+  AngVec* const omega = p.omega.data();
+  const Vec* const f = p.f.data();
+  const AngVec* const torque = p.torque.data();
+  const double* const inv_mass = p.inv_mass.data();
+  const double* const inv_inertia = p.inv_inertia.data();
+  const Motion* const motion = p.motion.data();
+  const auto* const group = p.group.data();
+  const Vec* const group_v = group_v_now_.data();
   // compute_forces left the finiteness test to this pass: a particle that fails it keeps its
-  // velocity and stops the run below.
-  std::size_t bad = std::numeric_limits<std::size_t>::max();
-#pragma omp parallel for schedule(static) reduction(min : bad) if (parallel_)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!finite_state(i)) {
+  // velocity and stops the run below. (finite_state's test, on the hoisted pointers.)
+  const auto particle = [=](std::size_t i, std::size_t& bad) {
+    const auto zeros = [](const auto& a) { return (a - a).sum(); };
+    double s = zeros(f[i]) + zeros(x[i]) + zeros(v[i]);
+    if constexpr (D::dim == 3) {
+      s += zeros(torque[i]);
+    } else {
+      s += torque[i] - torque[i];
+    }
+    if (s != 0.0) {
       bad = std::min(bad, i);
-      continue;
+      return;
     }
-    if (p.motion[i] == Motion::Free) {
-      p.v[i] += kick2 * p.inv_mass[i] * p.f[i];
-      p.omega[i] += (kick2 * p.inv_inertia[i]) * p.torque[i];
-    } else if (p.motion[i] == Motion::Prescribed) {
-      p.v[i] = group_v_now_[p.group[i]];
+    if (motion[i] == Motion::Free) {
+      v[i] += kick2 * inv_mass[i] * f[i];
+      omega[i] += (kick2 * inv_inertia[i]) * torque[i];
+    } else if (motion[i] == Motion::Prescribed) {
+      v[i] = group_v[group[i]];
     }
+  };
+  std::size_t bad = std::numeric_limits<std::size_t>::max();
+  if (parallel_) {
+#pragma omp parallel reduction(min : bad)
+    {
+      const auto local = particle;
+#pragma omp for schedule(static)
+      for (std::size_t i = 0; i < n; ++i) local(i, bad);
+    }
+  } else {
+    const auto local = particle;
+    for (std::size_t i = 0; i < n; ++i) local(i, bad);
   }
   if (bad != std::numeric_limits<std::size_t>::max())
     throw_instability(bad, "its force, torque, position or velocity is not finite");
