@@ -76,6 +76,9 @@ class Simulation {
   /// Below this many particles every loop runs on one thread: a parallel region costs more
   /// than it saves, and badly so when cores are oversubscribed.
   static constexpr std::size_t kParallelMinParticles = 2048;
+  /// Particles (ghosts included) from which the packed pair loop prefetches each layer's
+  /// particle data (prefetch_layer_pair).
+  static constexpr std::size_t kPrefetchMinParticles = 8192;
 
   explicit Simulation(const SimulationConfig<D>& config) : config_(config) {
     config_.validate();

@@ -45,9 +45,9 @@ Simulation<D, Model, Search, Integrator>::kick_and_drift(double dt) {
   const Vec* const group_v = group_v_now_.data();
   const auto* const x_build = list_.x_at_build.data();
   const Vec gravity = config_.gravity;
-  const auto particle = [=](std::size_t i, int& moved, std::uint32_t& mat_lo, std::uint32_t& mat_hi) {
-    mat_lo = std::min(mat_lo, material[i]);
-    mat_hi = std::max(mat_hi, material[i]);
+  // Kicks and drifts particle i; its squared displacement since the list's build (0 without
+  // the rebuild test).
+  const auto particle = [=](std::size_t i) -> double {
     switch (motion[i]) {
       case Motion::Free:
         v[i] += kick1 * inv_mass[i] * f[i];
@@ -65,7 +65,7 @@ Simulation<D, Model, Search, Integrator>::kick_and_drift(double dt) {
         break;
     }
     if constexpr (kResetInDrift) torque[i] = D::zero_ang();
-    if (test_moves) moved |= (x[i] - x_build[i].template cast<double>()).squaredNorm() > lim2;
+    return test_moves ? (x[i] - x_build[i].template cast<double>()).squaredNorm() : 0.0;
   };
   int moved = 0;
   // The range of particle materials: with one material the packed loop need not look up
@@ -76,11 +76,26 @@ Simulation<D, Model, Search, Integrator>::kick_and_drift(double dt) {
     {
       const auto local = particle;  // (a copy per thread: the shared one is read through memory)
 #pragma omp for schedule(static)
-      for (std::size_t i = 0; i < n; ++i) local(i, moved, mat_lo, mat_hi);
+      for (std::size_t i = 0; i < n; ++i) {
+        mat_lo = std::min(mat_lo, material[i]);
+        mat_hi = std::max(mat_hi, material[i]);
+        moved |= static_cast<int>(local(i) > lim2);
+      }
     }
   } else {
+    // (The largest displacement, not an `or` of the tests: GCC kept that flag in memory, and
+    // the `or` into it per particle chained the iterations. A NaN is passed over by both.)
     const auto local = particle;
-    for (std::size_t i = 0; i < n; ++i) local(i, moved, mat_lo, mat_hi);
+    double worst = 0.0;
+    std::uint32_t lo = mat_lo, hi = mat_hi;
+    for (std::size_t i = 0; i < n; ++i) {
+      lo = std::min(lo, material[i]);
+      hi = std::max(hi, material[i]);
+      worst = std::max(worst, local(i));
+    }
+    moved = static_cast<int>(worst > lim2);
+    mat_lo = lo;
+    mat_hi = hi;
   }
   return {!test_moves || moved != 0, n > 0 && mat_lo == mat_hi};
 }
@@ -101,14 +116,16 @@ inline void Simulation<D, Model, Search, Integrator>::second_kick(double dt) {
   const auto* const group = p.group.data();
   const Vec* const group_v = group_v_now_.data();
   // compute_forces left the finiteness test to this pass: a particle that fails it keeps its
-  // velocity and stops the run below. (finite_state's test, on the hoisted pointers.)
+  // velocity and stops the run below (finite_state's test, on the hoisted pointers).
   const auto particle = [=](std::size_t i, std::size_t& bad) {
-    const auto zeros = [](const auto& a) { return (a - a).sum(); };
-    double s = zeros(f[i]) + zeros(x[i]) + zeros(v[i]);
+    // (Vectors summed before their components: fewer dependent additions than finite_state's
+    // order, the same verdict, since a sum of zeros is zero in any order and inf - inf = NaN.)
+    const Vec z = (f[i] - f[i]) + (x[i] - x[i]) + (v[i] - v[i]);
+    double s;
     if constexpr (D::dim == 3) {
-      s += zeros(torque[i]);
+      s = (z + (torque[i] - torque[i])).sum();
     } else {
-      s += torque[i] - torque[i];
+      s = z.sum() + (torque[i] - torque[i]);
     }
     if (s != 0.0) {
       bad = std::min(bad, i);
@@ -131,7 +148,9 @@ inline void Simulation<D, Model, Search, Integrator>::second_kick(double dt) {
     }
   } else {
     const auto local = particle;
-    for (std::size_t i = 0; i < n; ++i) local(i, bad);
+    std::size_t b = bad;
+    for (std::size_t i = 0; i < n; ++i) local(i, b);
+    bad = b;
   }
   if (bad != std::numeric_limits<std::size_t>::max())
     throw_instability(bad, "its force, torque, position or velocity is not finite");
