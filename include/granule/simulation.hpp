@@ -81,6 +81,9 @@ class Simulation {
   /// Below this many particles every loop runs on one thread: a parallel region costs more
   /// than it saves, and badly so when cores are oversubscribed.
   static constexpr std::size_t kParallelMinParticles = 2048;
+  /// Particles (ghosts included) from which the packed pair loop prefetches each layer's
+  /// particle data (prefetch_layer_pair).
+  static constexpr std::size_t kPrefetchMinParticles = 8192;
 
   /// `par`: the parallel policy's set-up (parallel::MpiDomains: the MPI context and rank grid;
   /// nothing for SingleProcess). Distributed: every rank builds the whole scene with the same

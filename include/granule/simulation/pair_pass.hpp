@@ -31,7 +31,15 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::compute_forces(b
 #else
   pair_work_.resize(1);
 #endif
-  for (auto& a : layer_acc_) {
+  // Only the layers that hold rows are reset, processed and summed: a layer without rows has
+  // no pair or wall entries. (A tall box has many: paper 002's 2D bed fills 33 of 175 layers,
+  // and the others' upkeep cost 36 instructions per disk-step, 8 % of the step.) The reads below
+  // skip the same layers, so an emptied layer's old sums are never seen.
+  const auto& layer_begin = list_.layer_begin;
+  const auto filled = [&](std::size_t l) { return layer_begin[l] != layer_begin[l + 1]; };
+  for (std::size_t l = 0; l < nl; ++l) {
+    if (!filled(l)) continue;
+    auto& a = layer_acc_[l];
     a.contacts = 0;
     a.bad_row = std::numeric_limits<std::size_t>::max();
     a.missing_wall_features = 0;
@@ -53,7 +61,6 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::compute_forces(b
   // that got the layers above it idle (the two-rod study ran its pair loop on one thread).
   // Which thread takes a layer does not change the result.
   const auto& row_begin = list_.row_begin;
-  const auto& layer_begin = list_.layer_begin;
   auto layer_work = [&](std::size_t l) -> std::uint64_t {
     return std::uint64_t(row_begin[layer_begin[l + 1]] - row_begin[layer_begin[l]]) +
            (layer_begin[l + 1] - layer_begin[l]);
@@ -71,7 +78,8 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::compute_forces(b
   // split (both cost 3-4 % of a 1600-disk 2D step).
   const bool threaded = parallel && parallel_;
   for (std::size_t colour = 0; colour < 3 && !threaded; ++colour)
-    for (std::size_t l = colour; l < nl; l += 3) process(l);
+    for (std::size_t l = colour; l < nl; l += 3)
+      if (filled(l)) process(l);
   for (std::size_t colour = 0; colour < 3 && threaded; ++colour) {
     const std::size_t count = nl > colour ? (nl - colour + 2) / 3 : 0;
 #pragma omp parallel
@@ -92,7 +100,7 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::compute_forces(b
         const std::uint64_t owner =
             total == 0 ? 0 : std::min(threads - 1, (2 * before + w) * threads / (2 * total));
         before += w;
-        if (owner == thread) process(l);
+        if (owner == thread && filled(l)) process(l);
       }
     }
   }
@@ -113,6 +121,7 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::compute_forces(b
   }
   std::size_t bad_layer = nl;
   for (std::size_t l = 0; l < nl; ++l) {
+    if (!filled(l)) continue;
     const auto& a = layer_acc_[l];
     contacts_ += a.contacts;
     for (std::size_t b = 0; b < nb; ++b) {
@@ -127,7 +136,8 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::compute_forces(b
   }
   if (record) {
     records_.clear();
-    for (const auto& a : layer_acc_) records_.insert(records_.end(), a.records.begin(), a.records.end());
+    for (std::size_t l = 0; l < nl; ++l)
+      if (filled(l)) records_.insert(records_.end(), layer_acc_[l].records.begin(), layer_acc_[l].records.end());
     records_step_ = step_;
     record_next_ = false;
   }
@@ -240,7 +250,9 @@ GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator, Parallel>::
 // come from memory, and the packs' own loads, spread over many arrays, left the hardware
 // prefetchers behind: +3-5 % on the 100k beds, no change at 20k (docs/performance.md, "Beds
 // larger than the cache"). Positions and radii are left to the touch scan, which reads them
-// first and in order.
+// first and in order. Beds below kPrefetchMinParticles (whose 104 B per particle fit in a
+// core's L2 cache) skip it: there the lines are in the cache already, and the prefetch loops
+// were 1-1.5 % of the 1600-disk 2D step.
 template <class D, class Model, class Search, class Integrator, class Parallel>
 inline void Simulation<D, Model, Search, Integrator, Parallel>::prefetch_layer_pair(std::size_t l) const {
   const auto& p = particles_;
@@ -277,7 +289,7 @@ GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator, Parallel>::
     auto& acc = layer_acc_[l];
     const std::size_t r0 = list_.layer_begin[l], r1 = list_.layer_begin[l + 1];
     const std::size_t entries = list_.row_begin[r1] - list_.row_begin[r0];
-    prefetch_layer_pair(l);
+    if (p.size() >= kPrefetchMinParticles) prefetch_layer_pair(l);
 #ifdef _OPENMP
     PairWork& work = pair_work_[static_cast<std::size_t>(omp_get_thread_num())];
 #else
@@ -329,7 +341,9 @@ inline std::size_t Simulation<D, Model, Search, Integrator, Parallel>::fill_chun
   std::size_t c = 0;
   // With one particle material (step() knows) no pair's material need be read.
   const auto list = [&](auto check_material) {
-    for (; k < nt && c < Chunk::capacity; ++k, ++c) {
+    // (One bound: the pairs left or the chunk's room, whichever ends first.)
+    const std::size_t last = std::min(nt, k + Chunk::capacity);
+    for (; k < last; ++k, ++c) {
       const std::uint32_t e = touching[k], j = list_.nbr[e];
       const std::uint32_t i = rows[k];
       if constexpr (decltype(check_material)::value) {
