@@ -567,6 +567,13 @@ class Simulation {
   void initialise_distributed();
   void rebuild_distributed();
   void refresh_remote_ghosts();
+  // save_state of a distributed run: every rank's particles and histories gathered to rank 0,
+  // which writes them as a one-process state would be (other ranks write nothing).
+  template <class W>
+  void save_state_distributed(W& w);
+  // What save_state writes after the neighbour list: bodies, walls, group modes, time origin.
+  template <class W>
+  void save_state_tail(W& w) const;
   // Body and wall forces and torques summed over the ranks in rank order.
   void reduce_wall_forces();
   // f() on every rank; an exception on any rank is thrown on every rank (MpiContext::collective).

@@ -16,7 +16,9 @@
 // context's communicator); nothing here knows the particles' layout.
 #include <cstdint>
 #include <cstring>
+#include <algorithm>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "granule/parallel/decomposition.hpp"
@@ -90,6 +92,18 @@ struct MpiDomains {
         for (int r = 1; r < ranks(); ++r)
           for (int k = 0; k < n; ++k) a[k] += all[static_cast<std::size_t>(r) * a.size() + k];
       MPI_Bcast(a.data(), n, MPI_DOUBLE, 0, comm());
+    }
+
+    /// Rank 0's bytes on every rank (checkpoints: the file read, the outcome of the write).
+    void broadcast(std::string& s) const {
+      std::uint64_t n = s.size();
+      MPI_Bcast(&n, 1, MPI_UINT64_T, 0, comm());
+      s.resize(static_cast<std::size_t>(n));
+      // (Chunks below 2^31 bytes: MPI counts are ints.)
+      for (std::uint64_t at = 0; at < n; at += (std::uint64_t(1) << 30)) {
+        const int len = static_cast<int>(std::min<std::uint64_t>(n - at, std::uint64_t(1) << 30));
+        MPI_Bcast(s.data() + at, len, MPI_CHAR, 0, comm());
+      }
     }
 
     /// Sends out[r] to rank r, returns what every rank sent here, by source rank (sizes are
