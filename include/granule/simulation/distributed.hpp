@@ -21,7 +21,9 @@
 // Included by granule/simulation.hpp at its end: include that header, not this one.
 #include <array>
 #include <cstring>
+#include <limits>
 #include <map>
+#include <tuple>
 #include <type_traits>
 
 #include "granule/parallel/decomposition.hpp"  // no MPI: the cuts are pure functions
@@ -539,6 +541,114 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::save_state_distr
   }
   w.template pod<std::uint64_t>(list_.builds);
   save_state_tail(w);
+}
+
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline double Simulation<D, Model, Search, Integrator, Parallel>::over_ranks(double x) const {
+  std::vector<double> a{x};
+  dist_.sum_in_rank_order(a);
+  return a[0];
+}
+
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline std::size_t Simulation<D, Model, Search, Integrator, Parallel>::contact_count_distributed() const {
+  // This rank's count less the pairs across ranks the other rank counts (same test as the pair
+  // pass: the list's pairs whose geometry touches).
+  std::uint64_t twice = 0;
+  for_each_contact_geometry([&](const contact::ContactGeometry<D>&, const Params&, const State&, std::size_t i,
+                                std::uint32_t j, std::uint32_t wall) {
+    if (wall == 0 && counted_elsewhere(i, j)) ++twice;
+  });
+  return static_cast<std::size_t>(dist_.sum(static_cast<std::uint64_t>(contacts_) - twice));
+}
+
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline analysis::Frame<D> Simulation<D, Model, Search, Integrator, Parallel>::gathered_frame() const {
+  using Record = analysis::ContactRecord<D>;
+  const auto& p = particles_;
+  bool all_here = true;  // (before the first build every rank holds every particle: rank 0's count)
+  if constexpr (Parallel::distributed) all_here = dist_.decomposition || dist_.context().root();
+  const std::size_t n = all_here ? p.owned() : 0;
+  std::vector<char> mine;
+  simulation_parts::Packer b{mine};
+  b.put(static_cast<std::uint64_t>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    b.put(p.id[i]); b.put(p.x[i]); b.put(p.v[i]); b.put(p.omega[i]); b.put(p.radius[i]); b.put(p.mass[i]);
+    b.put(p.group[i]); b.put(p.f[i]); b.put(p.torque[i]);
+  }
+  constexpr std::uint64_t kWallId = std::numeric_limits<std::uint64_t>::max();
+  std::uint64_t kept = 0;
+  std::vector<char> contacts;
+  simulation_parts::Packer c{contacts};
+  if (records_step_ == step_ && all_here)
+    for (const Record& r : records_) {
+      const bool wall = r.j == Record::kWall;
+      if (!wall && counted_elsewhere(r.i, r.j)) continue;
+      ++kept;
+      c.put(p.id[r.i]); c.put(wall ? kWallId : p.id[r.j]); c.put(r.wall); c.put(r.normal); c.put(r.branch);
+      c.put(r.contact_point); c.put(r.overlap); c.put(r.fn); c.put(r.ft); c.put(r.mu);
+    }
+  b.put(kept);
+  mine.insert(mine.end(), contacts.begin(), contacts.end());
+  std::vector<char> all;
+  if constexpr (Parallel::distributed) all = dist_.gather_to_root(mine);
+  else all.swap(mine);
+
+  analysis::Frame<D> fr;
+  fr.time = time_;
+  fr.thickness = config_.thickness;
+  fr.box_lo = config_.domain.lo;
+  fr.box_hi = config_.domain.hi;
+  fr.periodic = config_.domain.periodic;
+  struct Particle {
+    std::uint64_t id;
+    Vec x, v, f;
+    AngVec omega, torque;
+    double radius, mass;
+    std::uint32_t group;
+  };
+  struct Contact {
+    std::uint64_t id_i, id_j;
+    Record r;
+  };
+  std::vector<Particle> ps;
+  std::vector<Contact> cs;
+  simulation_parts::Unpacker u{all.data(), all.data() + all.size()};
+  while (!u.done()) {
+    const auto np = u.take<std::uint64_t>();
+    for (std::uint64_t k = 0; k < np; ++k) {
+      Particle q;
+      u.get(q.id); u.get(q.x); u.get(q.v); u.get(q.omega); u.get(q.radius); u.get(q.mass); u.get(q.group);
+      u.get(q.f); u.get(q.torque);
+      ps.push_back(q);
+    }
+    const auto nc = u.take<std::uint64_t>();
+    for (std::uint64_t k = 0; k < nc; ++k) {
+      Contact q;
+      u.get(q.id_i); u.get(q.id_j); u.get(q.r.wall); u.get(q.r.normal); u.get(q.r.branch);
+      u.get(q.r.contact_point); u.get(q.r.overlap); u.get(q.r.fn); u.get(q.r.ft); u.get(q.r.mu);
+      cs.push_back(q);
+    }
+  }
+  std::sort(ps.begin(), ps.end(), [](const Particle& a, const Particle& q) { return a.id < q.id; });
+  std::sort(cs.begin(), cs.end(), [](const Contact& a, const Contact& q) {
+    return std::tie(a.id_i, a.id_j, a.r.wall) < std::tie(q.id_i, q.id_j, q.r.wall);
+  });
+  for (const Particle& q : ps) {
+    fr.id.push_back(q.id); fr.x.push_back(q.x); fr.v.push_back(q.v); fr.omega.push_back(q.omega);
+    fr.radius.push_back(q.radius); fr.mass.push_back(q.mass); fr.group.push_back(q.group);
+    fr.force.push_back(q.f); fr.torque.push_back(q.torque);
+  }
+  auto index = [&](std::uint64_t id) {
+    return static_cast<std::uint32_t>(
+        std::lower_bound(fr.id.begin(), fr.id.end(), id) - fr.id.begin());
+  };
+  for (Contact& q : cs) {
+    q.r.i = index(q.id_i);
+    q.r.j = q.id_j == kWallId ? Record::kWall : index(q.id_j);
+    fr.contacts.push_back(q.r);
+  }
+  return fr;
 }
 
 template <class D, class Model, class Search, class Integrator, class Parallel>
