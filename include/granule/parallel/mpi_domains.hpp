@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <cstring>
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,6 +39,24 @@ struct MpiDomains {
   const MpiContext& context() const { return *context_; }
   const RankGrid& grid() const { return grid_; }
 
+  /// Runtime load balance: at a rebuild, when the particle counts' max/mean over the ranks
+  /// exceeds `threshold` (>= 1; 0 turns it off), new cuts are made from every particle's
+  /// position (Decomposition::balanced on the same rank grid) and the particles migrate.
+  MpiDomains& rebalance(double threshold) {
+    require(threshold == 0.0 || (threshold >= 1.0 && std::isfinite(threshold)), "MpiDomains", "rebalance threshold",
+            threshold, "0 (off) or [1, inf)");
+    threshold_ = threshold;
+    return *this;
+  }
+  double rebalance_threshold() const { return threshold_; }
+  /// The first build cuts the box uniformly instead of balancing on the particles (tests, and
+  /// a scene that fills the box later).
+  MpiDomains& uniform_start(bool on = true) {
+    uniform_start_ = on;
+    return *this;
+  }
+  bool starts_uniform() const { return uniform_start_; }
+
   /// The per-simulation data: the decomposition, the halo plan and the messages.
   template <class D>
   class Engine {
@@ -48,7 +67,19 @@ struct MpiDomains {
       Shift shift = Shift::Zero();  ///< periodic image it is sent in
     };
 
-    explicit Engine(const MpiDomains& p) : context_(p.context_), grid_(p.grid_) {}
+    explicit Engine(const MpiDomains& p)
+        : threshold(p.threshold_), uniform_start(p.uniform_start_), context_(p.context_), grid_(p.grid_) {}
+
+    /// Load balance (MpiDomains::rebalance): the threshold, whether the first cuts are uniform,
+    /// how often the cuts were remade, and the imbalance of the particle counts at the last
+    /// rebuild (after any rebalance) and before the last rebalance.
+    double threshold = 1.2;
+    bool uniform_start = false;
+    std::uint64_t rebalances = 0;
+    double imbalance = 1.0, imbalance_before_rebalance = 1.0;
+    /// Seconds spent remaking cuts (the gather of positions and the new cuts; the migration
+    /// that follows is part of the rebuild).
+    double rebalance_seconds = 0.0;
 
     int rank() const { return context_->rank(); }
     int ranks() const { return context_->size(); }
@@ -141,6 +172,19 @@ struct MpiDomains {
         if (rc[r] > 0) std::memcpy(in[r].data(), rbuf.data() + rd[r], static_cast<std::size_t>(rc[r]));
     }
 
+    /// Every rank's values on every rank, in rank order.
+    std::vector<double> all_gather(const std::vector<double>& mine) const {
+      const int R = ranks();
+      int n = static_cast<int>(mine.size());
+      std::vector<int> counts(R), displ(R);
+      MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm());
+      int total = 0;
+      for (int r = 0; r < R; ++r) { displ[r] = total; total += counts[r]; }
+      std::vector<double> all(static_cast<std::size_t>(total));
+      MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displ.data(), MPI_DOUBLE, comm());
+      return all;
+    }
+
     /// Every rank's bytes on rank 0, in rank order (other ranks: empty).
     std::vector<char> gather_to_root(const std::vector<char>& mine) const {
       const int R = ranks();
@@ -165,6 +209,8 @@ struct MpiDomains {
  private:
   const MpiContext* context_;
   RankGrid grid_;
+  double threshold_ = 1.2;
+  bool uniform_start_ = false;
 };
 
 }  // namespace granule::parallel

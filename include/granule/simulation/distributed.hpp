@@ -20,6 +20,7 @@
 // decomposition from all particles (the same on every rank, no message) and keeps each rank's own.
 // Included by granule/simulation.hpp at its end: include that header, not this one.
 #include <array>
+#include <chrono>
 #include <cstring>
 #include <limits>
 #include <map>
@@ -97,7 +98,10 @@ struct Simulation<D, Model, Search, Integrator, Parallel>::HaloHooks {
         if (grid.parts[0] == 0) grid = parallel::choose_grid(sim.config_.domain, R, w);
         require(grid.ranks() == R, "MpiDomains", "rank grid parts", grid.ranks(),
                 "= the number of ranks (" + std::to_string(R) + ")");
-        E.decomposition.emplace(parallel::Decomposition<D>::balanced(sim.config_.domain, grid, xs, {}, w));
+        if (E.uniform_start)
+          E.decomposition.emplace(sim.config_.domain, grid, w);
+        else
+          E.decomposition.emplace(parallel::Decomposition<D>::balanced(sim.config_.domain, grid, xs, {}, w));
         std::vector<bool> keep(p.owned());
         for (std::size_t i = 0; i < p.owned(); ++i) keep[i] = E.decomposition->owner(p.x[i]) == me;
         p.remove_if_not(keep);
@@ -108,6 +112,7 @@ struct Simulation<D, Model, Search, Integrator, Parallel>::HaloHooks {
         throw InvalidParameter("MpiDomains: the ranks did not set up the same scene (" + std::to_string(total) +
                                " particles here, " + std::to_string(kept) + " kept over all ranks)");
       E.total = total;
+      E.imbalance = parallel::Load{E.all_gather({static_cast<double>(p.owned())})}.imbalance();
       return;
     }
     // Insertion and removal across ranks are not there yet: every rank would add the same
@@ -116,6 +121,33 @@ struct Simulation<D, Model, Search, Integrator, Parallel>::HaloHooks {
       throw InvalidParameter("MpiDomains: " + std::to_string(now) + " particles over the ranks where the run started "
                              "with " + std::to_string(E.total) + "; adding or removing particles after the first "
                              "step is not supported yet (docs/mpi.md)");
+    // Load balance: the particle counts' max/mean; above the threshold, new cuts from every
+    // particle's position (gathered in rank order, so every rank makes the same cuts).
+    {
+      const std::vector<double> counts = E.all_gather({static_cast<double>(p.owned())});
+      E.imbalance = parallel::Load{counts}.imbalance();
+      if (E.threshold >= 1.0 && E.imbalance > E.threshold) {
+        const auto t0 = std::chrono::steady_clock::now();
+        std::vector<double> mine;
+        mine.reserve(p.owned() * D::dim);
+        for (std::size_t i = 0; i < p.owned(); ++i)
+          for (int k = 0; k < D::dim; ++k) mine.push_back(p.x[i][k]);
+        const std::vector<double> all = E.all_gather(mine);
+        std::vector<Vec> xs(all.size() / D::dim);
+        for (std::size_t i = 0; i < xs.size(); ++i)
+          for (int k = 0; k < D::dim; ++k) xs[i][k] = all[i * D::dim + k];
+        const parallel::RankGrid grid = E.decomposition->grid();
+        sim.collective([&] {
+          E.decomposition.emplace(parallel::Decomposition<D>::balanced(sim.config_.domain, grid, xs, {}, w));
+        });
+        parallel::Load after{std::vector<double>(static_cast<std::size_t>(R), 0.0)};
+        for (const Vec& x : xs) after.per_rank[static_cast<std::size_t>(E.decomposition->owner(x))] += 1.0;
+        E.imbalance_before_rebalance = E.imbalance;
+        E.imbalance = after.imbalance();
+        ++E.rebalances;
+        E.rebalance_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
+    }
     // Migration: who leaves, with what history.
     const auto& dec = *E.decomposition;
     std::vector<int> dest(p.owned(), me);
