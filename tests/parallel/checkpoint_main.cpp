@@ -8,6 +8,8 @@
 //                        the distributed file restarted on the same R ranks;
 //                        the one-process file restarted on R ranks;
 //                        the distributed file restarted in one process (rank 0);
+//                      a file read and written again at once (distributed, and in one process)
+//                      is the same file, byte for byte;
 //                      and the faults: a write that fails on rank 0 throws on every rank and leaves
 //                      the previous file byte for byte; a corrupted file and a file of another
 //                      scene (other time step) are refused on every rank with the reason named,
@@ -185,6 +187,11 @@ void save_mode(const parallel::MpiContext& mpi, const std::string& dir) {
     scene_only(again, o);
     io::read_checkpoint(again, dist_file);
     check(again.step_count() == kSave, "restart: step count not restored", mpi.rank());
+    // Written again at once, the state gives the same file, byte for byte.
+    io::write_checkpoint(again, dir + "/again_np" + R + ".ckpt");
+    if (mpi.root())
+      check(bytes_of(dir + "/again_np" + R + ".ckpt") == bytes_of(dist_file),
+            "restart: the file written again right after reading differs from the file read", 0);
     const auto loaded = again.gather();
     if (mpi.root()) {
       check(loaded.id == at_save.id && loaded.x == at_save.x && loaded.v == at_save.v && loaded.f == at_save.f &&
@@ -216,6 +223,9 @@ void save_mode(const parallel::MpiContext& mpi, const std::string& dir) {
     scene_only(solo, o);
     io::read_checkpoint(solo, dist_file);
     check(solo.particles().owned() == bed.size(), "one process: not every particle read", 0);
+    io::write_checkpoint(solo, dir + "/solo_np" + R + ".ckpt");
+    check(bytes_of(dir + "/solo_np" + R + ".ckpt") == bytes_of(dist_file),
+          "one process: the distributed file written again by one process differs", 0);
     solo.run(kAfter);
     judge("distributed file restarted in one process", solo.gather(), solo.wall(0).force, ref, f_ref, config.domain);
   }

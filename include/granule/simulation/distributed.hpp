@@ -458,7 +458,9 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::save_state_distr
       });
   std::vector<char> mine;
   simulation_parts::Packer b{mine};
-  for (std::size_t i = 0; i < p.owned(); ++i) {
+  // (Right after a checkpoint was read every rank holds every particle: rank 0 sends them.)
+  const std::size_t n_sent = dist_.decomposition || dist_.context().root() ? p.owned() : 0;
+  for (std::size_t i = 0; i < n_sent; ++i) {
     b.put(p.id[i]); b.put(p.x[i]); b.put(p.v[i]); b.put(p.f[i]); b.put(p.omega[i]); b.put(p.torque[i]);
     b.put(p.radius[i]); b.put(p.mass[i]); b.put(p.inv_mass[i]); b.put(p.inv_inertia[i]);
     b.put(p.material[i]); b.put(p.group[i]); b.put(p.motion[i]); b.put(p.image[i]);
@@ -577,7 +579,8 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::save_state_distr
 
 template <class D, class Model, class Search, class Integrator, class Parallel>
 inline double Simulation<D, Model, Search, Integrator, Parallel>::over_ranks(double x) const {
-  std::vector<double> a{x};
+  // (Before the first build, and after a checkpoint was read, every rank holds every particle.)
+  std::vector<double> a{dist_.decomposition || dist_.context().root() ? x : 0.0};
   dist_.sum_in_rank_order(a);
   return a[0];
 }
@@ -591,7 +594,8 @@ inline std::size_t Simulation<D, Model, Search, Integrator, Parallel>::contact_c
                                 std::uint32_t j, std::uint32_t wall) {
     if (wall == 0 && counted_elsewhere(i, j)) ++twice;
   });
-  return static_cast<std::size_t>(dist_.sum(static_cast<std::uint64_t>(contacts_) - twice));
+  const bool mine = dist_.decomposition || dist_.context().root();  // (as in over_ranks)
+  return static_cast<std::size_t>(dist_.sum(mine ? static_cast<std::uint64_t>(contacts_) - twice : 0));
 }
 
 template <class D, class Model, class Search, class Integrator, class Parallel>
