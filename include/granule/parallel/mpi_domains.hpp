@@ -80,6 +80,11 @@ struct MpiDomains {
     /// Seconds spent remaking cuts (the gather of positions and the new cuts; the migration
     /// that follows is part of the rebuild).
     double rebalance_seconds = 0.0;
+    /// Cost counters of this rank (benchmarks/mpi/bed.cpp): payload bytes and non-empty
+    /// messages it sent through exchange() (migration, halo build, ghost refresh), and seconds
+    /// in migration (after the wrap), the halo build and the ghost refresh.
+    mutable std::uint64_t sent_bytes = 0, sent_messages = 0;
+    double migration_seconds = 0.0, halo_seconds = 0.0, refresh_seconds = 0.0;
 
     int rank() const { return context_->rank(); }
     int ranks() const { return context_->size(); }
@@ -156,6 +161,10 @@ struct MpiDomains {
       std::vector<int> sc(R), sd(R), rc(R), rd(R);
       std::vector<char> sbuf, rbuf;
       for (int r = 0; r < R; ++r) {
+        if (r != rank() && !out[r].empty()) {
+          sent_bytes += out[r].size();
+          ++sent_messages;
+        }
         sd[r] = static_cast<int>(sbuf.size());
         sc[r] = static_cast<int>(out[r].size());
         sbuf.insert(sbuf.end(), out[r].begin(), out[r].end());

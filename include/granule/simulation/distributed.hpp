@@ -149,6 +149,12 @@ struct Simulation<D, Model, Search, Integrator, Parallel>::HaloHooks {
       }
     }
     // Migration: who leaves, with what history.
+    const auto t_migration = std::chrono::steady_clock::now();
+    struct Clock {  // (the migration's seconds, however it ends)
+      double& total;
+      std::chrono::steady_clock::time_point t0;
+      ~Clock() { total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+    } clock{E.migration_seconds, t_migration};
     const auto& dec = *E.decomposition;
     std::vector<int> dest(p.owned(), me);
     std::vector<std::uint64_t> ids;
@@ -227,6 +233,11 @@ struct Simulation<D, Model, Search, Integrator, Parallel>::HaloHooks {
 
   void after_ghosts(ParticleStore<D>& p) {
     auto& E = sim.dist_;
+    struct Clock {
+      double& total;
+      std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+      ~Clock() { total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+    } clock{E.halo_seconds};
     const auto& dec = *E.decomposition;
     const int me = E.rank(), R = E.ranks();
     const Vec L = sim.config_.domain.length();
@@ -303,6 +314,11 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::rebuild_distribu
 template <class D, class Model, class Search, class Integrator, class Parallel>
 inline void Simulation<D, Model, Search, Integrator, Parallel>::refresh_remote_ghosts() {
   auto& E = dist_;
+  struct Clock {
+    double& total;
+    std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+    ~Clock() { total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+  } clock{E.refresh_seconds};
   auto& p = particles_;
   const int R = E.ranks();
   const Vec L = config_.domain.length();
