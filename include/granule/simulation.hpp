@@ -250,7 +250,11 @@ class Simulation {
   /// the next step (PairList::detach).
   const List& neighbour_list() const { return list_; }
   /// Number of touching pairs and particle-wall contacts at the last force evaluation.
-  std::size_t contact_count() const { return contacts_; }
+  /// Distributed: over all ranks, a pair across two ranks counted once (collective).
+  std::size_t contact_count() const {
+    if constexpr (Parallel::distributed) return contact_count_distributed();
+    return contacts_;
+  }
   /// Contacts recorded at the last force evaluation that recorded them (see every()).
   const std::vector<analysis::ContactRecord<D>>& recorded_contacts() const { return records_; }
 
@@ -358,6 +362,11 @@ class Simulation {
 
   /// Rebuilds the neighbour list now (normally automatic). Distributed: collective.
   void rebuild();
+
+  /// Every particle and recorded contact in one Frame, particles in global-id order: in a
+  /// distributed run on rank 0 (others: no particles), a contact across two ranks once, as seen
+  /// from its lower id; in one process, frame() sorted by id. Distributed: collective.
+  analysis::Frame<D> gathered_frame() const;
 
   /// The owned particles of every rank on rank 0 in global-id order (other ranks: empty);
   /// one process: its particles in id order. Distributed: collective.
@@ -570,6 +579,21 @@ class Simulation {
   void initialise_distributed();
   void rebuild_distributed();
   void refresh_remote_ghosts();
+  // save_state of a distributed run: every rank's particles and histories gathered to rank 0,
+  // which writes them as a one-process state would be (other ranks write nothing).
+  template <class W>
+  void save_state_distributed(W& w);
+  // A sum over the ranks in rank order (the same bits on every rank); collective.
+  double over_ranks(double x) const;
+  // Whether the pair (owned i, slot j) is a pair across ranks counted by the other rank (the
+  // lower id's): energies, counts and frames take each such pair once.
+  bool counted_elsewhere(std::size_t i, std::size_t j) const {
+    return j >= particles_.owned() + particles_.local_ghosts() && particles_.id[j] < particles_.id[i];
+  }
+  std::size_t contact_count_distributed() const;
+  // What save_state writes after the neighbour list: bodies, walls, group modes, time origin.
+  template <class W>
+  void save_state_tail(W& w) const;
   // Body and wall forces and torques summed over the ranks in rank order.
   void reduce_wall_forces();
   // f() on every rank; an exception on any rank is thrown on every rank (MpiContext::collective).

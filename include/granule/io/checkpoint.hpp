@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -200,21 +201,87 @@ void write_checkpoint(Sim& sim, const std::string& path, const std::vector<std::
   w.vec(user);
   detail::write_materials(w, sim);
   static_assert(Sim::kStateFormat == kCheckpointVersion, "save_state's layout is this format's");
-  sim.save_state(w);
-  const std::uint64_t len = w.bytes().size();
-  const std::uint64_t sum = detail::fnv1a(w.bytes().data(), w.bytes().size());
-  w.pod(len);
-  w.pod(sum);
-  write_file_atomically(path, w.bytes().data(), w.bytes().size(), "write_checkpoint", /*durable=*/true);
+  if constexpr (!Sim::ParallelPolicy::distributed) {
+    sim.save_state(w);
+    const std::uint64_t len = w.bytes().size();
+    const std::uint64_t sum = detail::fnv1a(w.bytes().data(), w.bytes().size());
+    w.pod(len);
+    w.pod(sum);
+    write_file_atomically(path, w.bytes().data(), w.bytes().size(), "write_checkpoint", /*durable=*/true);
+  } else {
+    // Distributed (collective): the state is gathered to rank 0, which writes the one-process
+    // format atomically as above; its outcome is broadcast, so every rank returns or every rank
+    // throws (a failed write leaves the previous file as it was).
+    const auto& E = sim.parallel_engine();
+    std::exception_ptr mine;
+    std::string error;
+    try {
+      sim.save_state(w);
+      if (E.context().root()) {
+        const std::uint64_t len = w.bytes().size();
+        const std::uint64_t sum = detail::fnv1a(w.bytes().data(), w.bytes().size());
+        w.pod(len);
+        w.pod(sum);
+        write_file_atomically(path, w.bytes().data(), w.bytes().size(), "write_checkpoint", /*durable=*/true);
+      }
+    } catch (const std::exception& e) {
+      mine = std::current_exception();
+      error = e.what();
+    }
+    E.broadcast(error);
+    if (mine) std::rethrow_exception(mine);  // (an error thrown on every rank keeps its type)
+    if (!error.empty()) throw IoError("rank 0 of " + std::to_string(E.ranks()) + ": " + error);
+  }
 }
 
 /// Restores sim (already set up with the same scene) from `path`; returns the user section.
 /// On any error (IoError) sim is left exactly as it was. A scene whose materials differ from the
 /// checkpoint's is refused with the differences named, unless options.allow_other_materials.
 template <class Sim>
+std::vector<std::uint64_t> read_checkpoint_bytes(Sim& sim, const std::string& file, const std::string& path,
+                                                 const CheckpointReadOptions& options);
+
+/// Distributed (collective): rank 0 reads the file and every rank receives its bytes and checks
+/// them all before taking anything over, so a refused file is refused on every rank with the
+/// same message. The state is re-decomposed for this run's rank count at the next step.
+template <class Sim>
 std::vector<std::uint64_t> read_checkpoint(Sim& sim, const std::string& path,
                                            const CheckpointReadOptions& options = {}) {
-  const std::string file = read_file(path, "read_checkpoint");
+  if constexpr (!Sim::ParallelPolicy::distributed) {
+    return read_checkpoint_bytes(sim, read_file(path, "read_checkpoint"), path, options);
+  } else {
+    const auto& E = sim.parallel_engine();
+    std::string file, error;
+    if (E.context().root()) {
+      try {
+        file = read_file(path, "read_checkpoint");
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+    }
+    E.broadcast(error);
+    if (!error.empty()) throw IoError(error);
+    E.broadcast(file);
+    // The same bytes and the same scene on every rank: the checks agree. (Should they not,
+    // no rank is left waiting: the outcome is agreed before anyone returns.)
+    std::exception_ptr mine;
+    std::vector<std::uint64_t> user;
+    try {
+      user = read_checkpoint_bytes(sim, file, path, options);
+    } catch (...) {
+      mine = std::current_exception();
+    }
+    const bool failed = E.any(mine != nullptr);
+    if (mine) std::rethrow_exception(mine);
+    if (failed) throw IoError("read_checkpoint: '" + path + "' was refused on another rank");
+    return user;
+  }
+}
+
+/// read_checkpoint on bytes already read from `path`.
+template <class Sim>
+std::vector<std::uint64_t> read_checkpoint_bytes(Sim& sim, const std::string& file, const std::string& path,
+                                                 const CheckpointReadOptions& options) {
   const auto* data = reinterpret_cast<const std::uint8_t*>(file.data());
   BinaryReader whole(data, file.size(), path);
   if (file.size() < sizeof(kCheckpointMagic) + 16) whole.fail("too short to be a granule checkpoint");

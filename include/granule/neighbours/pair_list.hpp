@@ -253,6 +253,28 @@ class PairList {
     }
   }
 
+  /// Every pair history of the real particles' rows as f(row i, partner slot j, key, state), the
+  /// key as detach() makes it (partner id, relative image), and every wall entry of those rows as
+  /// w(row i, entry, state, has_state). A distributed checkpoint is gathered from these.
+  template <class F, class W>
+  void for_each_history(const ParticleStore<D>& p, F&& f, W&& w) const {
+    if (row_begin.empty()) return;
+    if constexpr (HasState)
+      for (std::size_t l = 0; l < layers(); ++l)
+        for (std::size_t i = layer_begin[l]; i < layer_begin[l + 1]; ++i)
+          for (std::uint32_t e = row_begin[i]; e < row_begin[i + 1]; ++e)
+            if (slot[e] != kNone) f(i, std::size_t(nbr[e]), pair_key(p, i, nbr[e]), pools[l].states[slot[e]]);
+    for (std::size_t i = 0; i + 1 < wall_begin.size(); ++i)
+      for (std::uint32_t e = wall_begin[i]; e < wall_begin[i + 1]; ++e) w(i, wall[e], e);
+  }
+  /// The relative image a key's code names, each component in [-2, 2].
+  static Image image_of_code(std::uint64_t code) {
+    Image rel;
+    for (int k = 0; k < D::dim; ++k, code /= 5) rel[k] = int(code % 5) <= 2 ? int(code % 5) : int(code % 5) - 5;
+    return rel;
+  }
+  static constexpr std::uint64_t image_codes() { return kImageCodes; }
+
   /// Slot of the row holding particle `id` (kNone if absent); valid until the next rebuild.
   std::uint32_t row_of_id(std::uint64_t id) const {
     return id < row_of_id_.size() ? row_of_id_[id] : kNone;

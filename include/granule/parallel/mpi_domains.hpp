@@ -16,7 +16,10 @@
 // context's communicator); nothing here knows the particles' layout.
 #include <cstdint>
 #include <cstring>
+#include <algorithm>
+#include <cmath>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "granule/parallel/decomposition.hpp"
@@ -36,6 +39,24 @@ struct MpiDomains {
   const MpiContext& context() const { return *context_; }
   const RankGrid& grid() const { return grid_; }
 
+  /// Runtime load balance: at a rebuild, when the particle counts' max/mean over the ranks
+  /// exceeds `threshold` (>= 1; 0 turns it off), new cuts are made from every particle's
+  /// position (Decomposition::balanced on the same rank grid) and the particles migrate.
+  MpiDomains& rebalance(double threshold) {
+    require(threshold == 0.0 || (threshold >= 1.0 && std::isfinite(threshold)), "MpiDomains", "rebalance threshold",
+            threshold, "0 (off) or [1, inf)");
+    threshold_ = threshold;
+    return *this;
+  }
+  double rebalance_threshold() const { return threshold_; }
+  /// The first build cuts the box uniformly instead of balancing on the particles (tests, and
+  /// a scene that fills the box later).
+  MpiDomains& uniform_start(bool on = true) {
+    uniform_start_ = on;
+    return *this;
+  }
+  bool starts_uniform() const { return uniform_start_; }
+
   /// The per-simulation data: the decomposition, the halo plan and the messages.
   template <class D>
   class Engine {
@@ -46,7 +67,24 @@ struct MpiDomains {
       Shift shift = Shift::Zero();  ///< periodic image it is sent in
     };
 
-    explicit Engine(const MpiDomains& p) : context_(p.context_), grid_(p.grid_) {}
+    explicit Engine(const MpiDomains& p)
+        : threshold(p.threshold_), uniform_start(p.uniform_start_), context_(p.context_), grid_(p.grid_) {}
+
+    /// Load balance (MpiDomains::rebalance): the threshold, whether the first cuts are uniform,
+    /// how often the cuts were remade, and the imbalance of the particle counts at the last
+    /// rebuild (after any rebalance) and before the last rebalance.
+    double threshold = 1.2;
+    bool uniform_start = false;
+    std::uint64_t rebalances = 0;
+    double imbalance = 1.0, imbalance_before_rebalance = 1.0;
+    /// Seconds spent remaking cuts (the gather of positions and the new cuts; the migration
+    /// that follows is part of the rebuild).
+    double rebalance_seconds = 0.0;
+    /// Cost counters of this rank (benchmarks/mpi/bed.cpp): payload bytes and non-empty
+    /// messages it sent through exchange() (migration, halo build, ghost refresh), and seconds
+    /// in migration (after the wrap), the halo build and the ghost refresh.
+    mutable std::uint64_t sent_bytes = 0, sent_messages = 0;
+    double migration_seconds = 0.0, halo_seconds = 0.0, refresh_seconds = 0.0;
 
     int rank() const { return context_->rank(); }
     int ranks() const { return context_->size(); }
@@ -92,6 +130,18 @@ struct MpiDomains {
       MPI_Bcast(a.data(), n, MPI_DOUBLE, 0, comm());
     }
 
+    /// Rank 0's bytes on every rank (checkpoints: the file read, the outcome of the write).
+    void broadcast(std::string& s) const {
+      std::uint64_t n = s.size();
+      MPI_Bcast(&n, 1, MPI_UINT64_T, 0, comm());
+      s.resize(static_cast<std::size_t>(n));
+      // (Chunks below 2^31 bytes: MPI counts are ints.)
+      for (std::uint64_t at = 0; at < n; at += (std::uint64_t(1) << 30)) {
+        const int len = static_cast<int>(std::min<std::uint64_t>(n - at, std::uint64_t(1) << 30));
+        MPI_Bcast(s.data() + at, len, MPI_CHAR, 0, comm());
+      }
+    }
+
     /// Sends out[r] to rank r, returns what every rank sent here, by source rank (sizes are
     /// exchanged first).
     std::vector<std::vector<char>> exchange(const std::vector<std::vector<char>>& out) const {
@@ -111,6 +161,10 @@ struct MpiDomains {
       std::vector<int> sc(R), sd(R), rc(R), rd(R);
       std::vector<char> sbuf, rbuf;
       for (int r = 0; r < R; ++r) {
+        if (r != rank() && !out[r].empty()) {
+          sent_bytes += out[r].size();
+          ++sent_messages;
+        }
         sd[r] = static_cast<int>(sbuf.size());
         sc[r] = static_cast<int>(out[r].size());
         sbuf.insert(sbuf.end(), out[r].begin(), out[r].end());
@@ -125,6 +179,19 @@ struct MpiDomains {
       MPI_Alltoallv(sbuf.data(), sc.data(), sd.data(), MPI_BYTE, rbuf.data(), rc.data(), rd.data(), MPI_BYTE, comm());
       for (int r = 0; r < R; ++r)
         if (rc[r] > 0) std::memcpy(in[r].data(), rbuf.data() + rd[r], static_cast<std::size_t>(rc[r]));
+    }
+
+    /// Every rank's values on every rank, in rank order.
+    std::vector<double> all_gather(const std::vector<double>& mine) const {
+      const int R = ranks();
+      int n = static_cast<int>(mine.size());
+      std::vector<int> counts(R), displ(R);
+      MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm());
+      int total = 0;
+      for (int r = 0; r < R; ++r) { displ[r] = total; total += counts[r]; }
+      std::vector<double> all(static_cast<std::size_t>(total));
+      MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displ.data(), MPI_DOUBLE, comm());
+      return all;
     }
 
     /// Every rank's bytes on rank 0, in rank order (other ranks: empty).
@@ -151,6 +218,8 @@ struct MpiDomains {
  private:
   const MpiContext* context_;
   RankGrid grid_;
+  double threshold_ = 1.2;
+  bool uniform_start_ = false;
 };
 
 }  // namespace granule::parallel

@@ -20,6 +20,7 @@ inline double Simulation<D, Model, Search, Integrator, Parallel>::kinetic_energy
     const double inertia = D::inertia_factor * m * particles_.radius[i] * particles_.radius[i];
     e += 0.5 * m * particles_.v[i].squaredNorm() + 0.5 * inertia * D::squared_norm(particles_.omega[i]);
   }
+  if constexpr (Parallel::distributed) e = over_ranks(e);
   return e;
 }
 
@@ -27,6 +28,7 @@ template <class D, class Model, class Search, class Integrator, class Parallel>
 inline double Simulation<D, Model, Search, Integrator, Parallel>::gravitational_energy() const {
   double e = 0.0;
   for (std::size_t i = 0; i < particles_.owned(); ++i) e -= particles_.mass[i] * config_.gravity.dot(particles_.x[i]);
+  if constexpr (Parallel::distributed) e = over_ranks(e);
   return e;
 }
 
@@ -35,9 +37,12 @@ inline double Simulation<D, Model, Search, Integrator, Parallel>::elastic_energy
   if (!initialised_ || !list_valid_) initialise();
   double e = 0.0;
   for_each_contact_geometry([&](const contact::ContactGeometry<D>& g, const Params& prm, const State& s,
-                                std::size_t, std::uint32_t, std::uint32_t) {
+                                std::size_t i, std::uint32_t j, std::uint32_t wall) {
+    if constexpr (Parallel::distributed)
+      if (wall == 0 && counted_elsewhere(i, j)) return;
     e += Model::stored_energy(prm, g, s);
   });
+  if constexpr (Parallel::distributed) e = over_ranks(e);
   return e;
 }
 

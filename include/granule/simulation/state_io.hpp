@@ -11,8 +11,11 @@ namespace granule {
 template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class W>
 inline void Simulation<D, Model, Search, Integrator, Parallel>::save_state(W& w) {
-  static_assert(!Parallel::distributed, "distributed checkpoints are not there yet (docs/mpi.md): use gather()");
   if (!initialised_ || !list_valid_) initialise();
+  if constexpr (Parallel::distributed) {
+    save_state_distributed(w);  // simulation/distributed.hpp
+    return;
+  }
   const auto& p = particles_;
   w.template pod<double>(time_);
   w.template pod<std::uint64_t>(step_);
@@ -24,6 +27,12 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::save_state(W& w)
   w.vec(p.mass); w.vec(p.inv_mass); w.vec(p.inv_inertia); w.vec(p.material); w.vec(p.group);
   w.vec(p.id); w.vec(p.motion); w.vec(p.image); w.vec(p.ghost_owner); w.vec(p.ghost_shift);
   list_.save(w);
+  save_state_tail(w);
+}
+
+template <class D, class Model, class Search, class Integrator, class Parallel>
+template <class W>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::save_state_tail(W& w) const {
   w.template pod<std::uint64_t>(bodies_.size());
   for (const auto& b : bodies_) {
     w.template pod<typename D::Mat>(b.pose.rotation());
@@ -55,7 +64,6 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::load_state(R& r,
 template <class D, class Model, class Search, class Integrator, class Parallel>
 template <class R>
 inline void Simulation<D, Model, Search, Integrator, Parallel>::load_state_format(R& r, std::uint32_t format, bool whole) {
-  static_assert(!Parallel::distributed, "distributed checkpoints are not there yet (docs/mpi.md)");
   require(format >= 3 && format <= kStateFormat, "Simulation::load_state_format", "format", format,
           "[3, " + std::to_string(kStateFormat) + "]");
   const double time = r.template pod<double>();
@@ -227,6 +235,13 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::load_state_forma
   list_valid_ = true;
   initialised_ = true;
   forces_ready_ = true;
+  if constexpr (Parallel::distributed) {
+    // Every rank holds the whole state now: the first step's rebuild (no build positions, so
+    // the drift test asks for one) re-decomposes it for this rank count and each rank keeps its
+    // own particles, their histories carried by key from the list just read (docs/mpi.md).
+    list_.x_at_build.clear();
+    dist_.decomposition.reset();
+  }
 }
 
 }  // namespace granule
