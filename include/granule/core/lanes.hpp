@@ -133,6 +133,35 @@ inline void where_assign(const LaneMask& c, LaneVec2& target, F&& f) {
   }
 }
 
+/// As where_assign, but the packed form evaluates f() always and blends it, without the any_of
+/// branch: for conditions whose lanes a branch predictor cannot foresee (a contact sliding or
+/// not). Scalar: the `if`.
+template <class T, class F>
+inline void blend_assign(bool c, T& target, F&& f) {
+  if (c) target = static_cast<T>(f());
+}
+
+template <class F>
+inline void blend_assign(const LaneMask& c, Lane& target, F&& f) {
+  const Lane v = f();
+  stdx::where(c, target) = v;
+}
+
+template <class F>
+inline void blend_assign(const LaneMask& c, LaneVec3& target, F&& f) {
+  const LaneVec3 v = f();
+  stdx::where(c, target.x) = v.x;
+  stdx::where(c, target.y) = v.y;
+  stdx::where(c, target.z) = v.z;
+}
+
+template <class F>
+inline void blend_assign(const LaneMask& c, LaneVec2& target, F&& f) {
+  const LaneVec2 v = f();
+  stdx::where(c, target.x) = v.x;
+  stdx::where(c, target.y) = v.y;
+}
+
 /// c ? a : b, lane by lane (both are evaluated).
 inline double select(bool c, double a, double b) { return c ? a : b; }
 inline Lane select(const LaneMask& c, const Lane& a, const Lane& b) {

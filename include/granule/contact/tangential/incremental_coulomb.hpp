@@ -43,7 +43,7 @@ struct IncrementalCoulombTangential {
     s.ft -= p.ratio * nr.kn * g.dt * g.vt;
     const R limit = p.mu_s * abs(nr.fn);
     const R f2 = s.ft.squaredNorm();
-    where_assign(f2 > limit * limit, s.ft, [&]() -> V { return s.ft * R(limit / sqrt(f2)); });
+    blend_assign(f2 > limit * limit, s.ft, [&]() -> V { return s.ft * R(limit / sqrt(f2)); });
     return s.ft;
   }
   /// Energy stored in the tangential spring, |F_t|^2 / (2 k_t) [J].
