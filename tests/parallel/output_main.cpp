@@ -29,25 +29,16 @@
 #include "granule/io/csv.hpp"
 #include "granule/io/vtk_pieces.hpp"
 #include "granule/parallel/mpi_domains.hpp"
-#include "parallel/scene.hpp"
+#include "parallel/common.hpp"
 
 using namespace granule;
 using Vec = Dim3::Vec;
-using Single = Simulation<Dim3, contact::HertzMindlin, neighbours::VerletList>;
-using Distributed = Simulation<Dim3, contact::HertzMindlin, neighbours::VerletList, integrators::VelocityVerlet,
-                               parallel::MpiDomains>;
+using test_parallel::check;
+using test_parallel::Distributed;
+using test_parallel::failures;
+using test_parallel::Single;
 
 namespace {
-
-int failures = 0;
-
-void check(bool ok, const std::string& what, int rank) {
-  if (!ok) {
-    ++failures;
-    std::printf("rank %d: FAILED: %s\n", rank, what.c_str());
-    std::fflush(stdout);
-  }
-}
 
 std::string text_of(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
