@@ -37,10 +37,7 @@
 
 using namespace granule;
 using Vec = Dim3::Vec;
-using test_parallel::check;
-using test_parallel::Distributed;
-using test_parallel::failures;
-using test_parallel::Single;
+using namespace granule::test_parallel;  // check, failures, Single, Distributed, ...
 
 namespace {
 
@@ -74,13 +71,6 @@ void judge(const std::string& name, const GatheredParticles<Dim3>& got, const Ve
 template <class Sim>
 void scene_only(Sim& sim, const test_parallel::SceneOptions& o) {
   test_parallel::populate(sim, o);
-}
-
-std::string bytes_of(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // `f` must throw IoError on every rank with a message containing `why`.
@@ -141,7 +131,7 @@ void save_mode(const parallel::MpiContext& mpi, const std::string& dir) {
     // Written again at once, the state gives the same file, byte for byte.
     io::write_checkpoint(again, dir + "/again_np" + R + ".ckpt");
     if (mpi.root())
-      check(bytes_of(dir + "/again_np" + R + ".ckpt") == bytes_of(dist_file),
+      check(file_contents(dir + "/again_np" + R + ".ckpt") == file_contents(dist_file),
             "restart: the file written again right after reading differs from the file read", 0);
     const auto loaded = again.gather();
     if (mpi.root()) {
@@ -175,7 +165,7 @@ void save_mode(const parallel::MpiContext& mpi, const std::string& dir) {
     io::read_checkpoint(solo, dist_file);
     check(solo.particles().owned() == bed.size(), "one process: not every particle read", 0);
     io::write_checkpoint(solo, dir + "/solo_np" + R + ".ckpt");
-    check(bytes_of(dir + "/solo_np" + R + ".ckpt") == bytes_of(dist_file),
+    check(file_contents(dir + "/solo_np" + R + ".ckpt") == file_contents(dist_file),
           "one process: the distributed file written again by one process differs", 0);
     solo.run(kAfter);
     judge("distributed file restarted in one process", solo.gather(), solo.wall(0).force, ref, f_ref, config.domain);
@@ -184,12 +174,12 @@ void save_mode(const parallel::MpiContext& mpi, const std::string& dir) {
 
   // Faults. A write that fails on rank 0 (its temporary name is taken by a directory): every
   // rank throws, the previous file is unchanged.
-  const std::string before = mpi.root() ? bytes_of(dist_file) : std::string();
+  const std::string before = mpi.root() ? file_contents(dist_file) : std::string();
   if (mpi.root()) std::filesystem::create_directory(dist_file + ".tmp");
   MPI_Barrier(mpi.comm());
   expect_io_error(mpi, "failed write", "write_checkpoint", [&] { io::write_checkpoint(many, dist_file); });
   if (mpi.root()) {
-    check(bytes_of(dist_file) == before, "failed write: the previous checkpoint changed", 0);
+    check(file_contents(dist_file) == before, "failed write: the previous checkpoint changed", 0);
     std::filesystem::remove(dist_file + ".tmp");
   }
   // A corrupted copy and a file of another scene: refused on every rank, the simulation unchanged.

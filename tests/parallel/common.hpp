@@ -1,10 +1,14 @@
 #pragma once
 // What the MPI test programs (tests/parallel/*_main.cpp) share: the two engines compared, the
 // failure count every rank keeps (summed or maxed over the ranks at the end), the comparison of
-// a gathered state with the one-process run, and the settled bed that starts both runs.
+// a gathered state with the one-process run, the settled bed that starts both runs, and a file's
+// bytes.
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,6 +33,14 @@ inline void check(bool ok, const std::string& what, int rank) {
     std::printf("rank %d: FAILED: %s\n", rank, what.c_str());
     std::fflush(stdout);
   }
+}
+
+/// The bytes of the file at `path` (empty if it cannot be read).
+inline std::string file_contents(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
 }
 
 /// Largest differences between two gathered states: position / r, velocity, angular velocity,

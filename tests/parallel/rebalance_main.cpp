@@ -22,10 +22,7 @@
 
 using namespace granule;
 using Vec = Dim3::Vec;
-using test_parallel::check;
-using test_parallel::Distributed;
-using test_parallel::failures;
-using test_parallel::Single;
+using namespace granule::test_parallel;  // check, failures, Single, Distributed, ...
 
 int main(int argc, char** argv) {
   parallel::MpiContext mpi(argc, argv);
