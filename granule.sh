@@ -12,6 +12,11 @@ JOBS="${GRANULE_JOBS:-$(nproc 2>/dev/null || echo 2)}"
 # python3-vtk9 and conflicts with it); the first one is installed when none is present.
 DEB_PACKAGES=(build-essential cmake libeigen3-dev catch2 libfftw3-dev libbenchmark-dev libcli11-dev
               python3 python3-numpy python3-matplotlib "python3-vtk9|python3-paraview" pkg-config)
+# Only for test-mpi (distributed runs, docs/mpi.md).
+DEB_PACKAGES_MPI=(libopenmpi-dev openmpi-bin)
+# What test-mpi builds: the MPI test programs (tests/CMakeLists.txt, label mpi) and the MPI example.
+MPI_TARGETS=(granule_mpi_context granule_mpi_distributed granule_mpi_checkpoint granule_mpi_output
+             granule_mpi_rebalance 02_pour_settle_mpi)
 
 say() { printf '[granule.sh] %s\n' "$*" >&2; }
 die() { say "error: $*"; exit 1; }
@@ -25,6 +30,8 @@ usage: ./granule.sh <command> [arguments]
   test [ctest args...]         deps + build in build/ + ctest --output-on-failure -j2
   test-sanitize [ctest args...]
                                deps + build with ASan/UBSan (-Og -g1) in build-sanitize/ + ctest
+  test-mpi [ctest args...]     deps + Open MPI + build the MPI tests and example in build-mpi/
+                               + ctest -L mpi (distributed runs, docs/mpi.md)
   run [example args...]        deps + build + run the main example ($MAIN_EXAMPLE) in out/<name>/
                                and draw its figures with its plot.py
   bench [benchmark args...]    deps + build with benchmarks and -march=native in build-bench/,
@@ -38,12 +45,18 @@ EOF
 
 # deps: apt-get install whatever is missing from DEB_PACKAGES; do nothing if all are present.
 cmd_deps() {
+  install_missing "${DEB_PACKAGES[@]}"
+}
+
+# install_missing PACKAGE...: apt-get install those not installed ("a|b": either will do).
+install_missing() {
+  local packages=("$@")
   if ! command -v dpkg >/dev/null 2>&1; then
-    say "not a Debian-based system: make sure these (or equivalents) are installed: ${DEB_PACKAGES[*]//|/ or }"
+    say "not a Debian-based system: make sure these (or equivalents) are installed: ${packages[*]//|/ or }"
     return 0
   fi
   local missing=() entry alternative status found
-  for entry in "${DEB_PACKAGES[@]}"; do
+  for entry in "${packages[@]}"; do
     found=0
     for alternative in ${entry//|/ }; do
       status="$(dpkg -s "$alternative" 2>/dev/null || true)"
@@ -130,6 +143,21 @@ cmd_test_sanitize() {
   say "sanitizer tests passed in $((SECONDS - start)) s"
 }
 
+# test-mpi: not part of `test` (nor of .ci/run): it needs Open MPI, and the MPI tests run for
+# minutes (mpi_distributed_threads_np2 alone, 4 processes, the longest; leave it out with
+# `-E threads`). The ctest entries set what mpiexec needs (e.g. as root, more ranks than cores).
+# Examples are configured only for the target 02_pour_settle_mpi; nothing else is built.
+cmd_test_mpi() {
+  install_missing "${DEB_PACKAGES[@]}" "${DEB_PACKAGES_MPI[@]}"
+  local start=$SECONDS
+  configure_and_build "$ROOT/build-mpi" -DGRANULE_MPI=ON -DGRANULE_BUILD_EXAMPLES=ON \
+    -- --target "${MPI_TARGETS[@]}"
+  say "build-mpi/ configured and built in $((SECONDS - start)) s"
+  start=$SECONDS
+  ctest_env ctest --test-dir "$ROOT/build-mpi" --output-on-failure -L mpi "$@"
+  say "MPI tests passed in $((SECONDS - start)) s"
+}
+
 cmd_run() {
   cmd_deps
   local name="$MAIN_EXAMPLE"
@@ -202,6 +230,7 @@ main() {
     build) cmd_build "$@" ;;
     test) cmd_test "$@" ;;
     test-sanitize) cmd_test_sanitize "$@" ;;
+    test-mpi) cmd_test_mpi "$@" ;;
     run) cmd_run "$@" ;;
     bench) cmd_bench "$@" ;;
     help | -h | --help) usage ;;

@@ -176,13 +176,15 @@ class Simulation {
     while (time_ < t_end - 0.5 * config_.dt) step();
   }
 
-  /// One velocity-Verlet step.
+  /// One velocity-Verlet step. A distributed run (Parallel::distributed, simulation/
+  /// distributed.hpp) takes the same outline: the rebuild decided by all ranks, the remote ghosts
+  /// refreshed, the body and wall forces summed over the ranks and every check collective.
   void step() {
     if constexpr (Parallel::distributed) {
-      step_distributed();  // simulation/distributed.hpp
-      return;
+      start_distributed();  // start_if_needed with collective checks
+    } else {
+      start_if_needed();
     }
-    start_if_needed();
     const double dt = config_.dt;
     update_group_velocities(time_ + 0.5 * dt);
     const Drift drift = kick_and_drift(dt);
@@ -192,12 +194,13 @@ class Simulation {
     // 0.1 s, where adding dt gave 0.10000000000002962 s).
     time_ = time_origin_ + static_cast<double>(step_ - step_origin_) * dt;
     const bool record = contacts_wanted(step_);
-    if (drift.list_stale || body_needs_rebuild()) {
-      rebuild();
+    if (on_any_rank(drift.list_stale) || body_needs_rebuild()) {
+      rebuild_everywhere();
     } else {
       refresh_ghosts();
+      if constexpr (Parallel::distributed) refresh_remote_ghosts();
     }
-    {
+    collective([&] {
       // (Cleared on the way out, also by an exception: other evaluations do not know.)
       struct Clear {
         bool& flag;
@@ -205,16 +208,17 @@ class Simulation {
       } clear{one_material_};
       one_material_ = drift.one_material;
       compute_forces(record, /*owned_reset=*/kResetInDrift, /*check_finite=*/false);
-    }
+    });
+    if constexpr (Parallel::distributed) reduce_wall_forces();
     update_group_velocities(time_);
-    second_kick(dt);
+    collective([&] { second_kick(dt); });
     for (auto& b : bodies_) {
       // Work of the drive against the particles over this step (rectangle rule at step end).
       b.work -= (b.force.dot(b.current_velocity) + D::dot(b.torque, b.current_angular_velocity)) * dt;
     }
     if (config_.check_rolling_stability && config_.stability_check_interval > 0 &&
         step_ % config_.stability_check_interval == 0)
-      check_rolling_time_step();
+      collective([&] { check_rolling_time_step(); });
     for (auto& o : observers_)
       if (step_ % o.every == 0) o.f(*this);
   }
@@ -575,8 +579,7 @@ class Simulation {
 
   // ---- the distributed engine (simulation/distributed.hpp; used only when Parallel::distributed) ----
   struct HaloHooks;
-  void step_distributed();
-  void initialise_distributed();
+  void start_distributed();
   void rebuild_distributed();
   void refresh_remote_ghosts();
   // save_state of a distributed run: every rank's particles and histories gathered to rank 0,
@@ -597,8 +600,31 @@ class Simulation {
   // Body and wall forces and torques summed over the ranks in rank order.
   void reduce_wall_forces();
   // f() on every rank; an exception on any rank is thrown on every rank (MpiContext::collective).
+  // In one process simply f(), at no cost.
   template <class F>
-  void collective(F&& f);
+  void collective(F&& f) {
+    if constexpr (Parallel::distributed) {
+      dist_.context().collective(std::forward<F>(f));
+    } else {
+      f();
+    }
+  }
+  // Whether b holds on any rank (in one process: b).
+  bool on_any_rank(bool b) const {
+    if constexpr (Parallel::distributed) {
+      return dist_.any(b);
+    } else {
+      return b;
+    }
+  }
+  // The list rebuild: rebuild(), or with migration and halo exchange in a distributed run.
+  void rebuild_everywhere() {
+    if constexpr (Parallel::distributed) {
+      rebuild_distributed();
+    } else {
+      rebuild();
+    }
+  }
 
   // ---- data (every part works on these members directly) ----
   SimulationConfig<D> config_;

@@ -33,26 +33,15 @@
 #include "granule/granule.hpp"
 #include "granule/io/checkpoint.hpp"
 #include "granule/parallel/mpi_domains.hpp"
-#include "parallel/scene.hpp"
+#include "parallel/common.hpp"
 
 using namespace granule;
 using Vec = Dim3::Vec;
-using Single = Simulation<Dim3, contact::HertzMindlin, neighbours::VerletList>;
-using Distributed = Simulation<Dim3, contact::HertzMindlin, neighbours::VerletList, integrators::VelocityVerlet,
-                               parallel::MpiDomains>;
+using namespace granule::test_parallel;  // check, failures, Single, Distributed, ...
 
 namespace {
 
-int failures = 0;
 constexpr std::uint64_t kSave = 100, kAfter = 300;  // steps before the checkpoint, after it
-
-void check(bool ok, const std::string& what, int rank) {
-  if (!ok) {
-    ++failures;
-    std::printf("rank %d: FAILED: %s\n", rank, what.c_str());
-    std::fflush(stdout);
-  }
-}
 
 test_parallel::SceneOptions slab() {
   test_parallel::SceneOptions o;
@@ -64,32 +53,10 @@ test_parallel::SceneOptions slab() {
   return o;
 }
 
-struct Diff {
-  double dx = 0, dv = 0, dw = 0, floor = 0;
-  bool same_ids = true;
-};
-
-Diff compare(const GatheredParticles<Dim3>& a, const GatheredParticles<Dim3>& b, const Vec& fa, const Vec& fb,
-             const Domain<Dim3>& dom) {
-  Diff d;
-  d.same_ids = a.size() == b.size() && a.id == b.id && a.size() > 0;
-  if (!d.same_ids) return d;
-  const Vec L = dom.length();
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const Vec xa = a.x[i] + (a.image[i].cast<double>().array() * L.array()).matrix();
-    const Vec xb = b.x[i] + (b.image[i].cast<double>().array() * L.array()).matrix();
-    d.dx = std::max(d.dx, (xa - xb).norm() / a.radius[i]);
-    d.dv = std::max(d.dv, (a.v[i] - b.v[i]).norm());
-    d.dw = std::max(d.dw, (a.omega[i] - b.omega[i]).norm());
-  }
-  d.floor = (fa - fb).norm() / std::max(fb.norm(), 1e-300);
-  return d;
-}
-
 // On rank 0: `got` against the reference, to the stated tolerance.
 void judge(const std::string& name, const GatheredParticles<Dim3>& got, const Vec& f_got,
            const GatheredParticles<Dim3>& ref, const Vec& f_ref, const Domain<Dim3>& dom) {
-  const Diff d = compare(got, ref, f_got, f_ref, dom);
+  const test_parallel::Difference d = test_parallel::compare_gathered(got, ref, f_got, f_ref, dom);
   std::printf("%s: max |dx|/r %.3g, |dv| %.3g m/s, |domega| %.3g 1/s, floor force rel %.3g\n", name.c_str(), d.dx,
               d.dv, d.dw, d.floor);
   check(d.same_ids, name + ": not every particle once in id order", 0);
@@ -99,37 +66,11 @@ void judge(const std::string& name, const GatheredParticles<Dim3>& got, const Ve
   check(d.floor < 1e-7, name + ": the floor force differs by more than 1e-7 relative", 0);
 }
 
-std::vector<std::pair<Vec, double>> settled_bed(const test_parallel::SceneOptions& o, std::uint64_t steps) {
-  test_parallel::SceneOptions still = o;
-  still.floor_speed = 0.0;
-  Single s(test_parallel::scene_config(still));
-  test_parallel::populate(s, still);
-  s.run(steps);
-  const auto g = s.gather();
-  std::vector<std::pair<Vec, double>> bed;
-  for (std::size_t i = 0; i < g.size(); ++i) bed.push_back({g.x[i], g.radius[i]});
-  return bed;
-}
-
-template <class Sim>
-void populate_bed(Sim& sim, const test_parallel::SceneOptions& o, const std::vector<std::pair<Vec, double>>& bed) {
-  test_parallel::populate(sim, o);
-  sim.remove_particles([](std::size_t) { return true; });
-  for (const auto& [x, r] : bed) sim.add_particle(x, r, 0);
-}
-
 // The scene as a restart builds it: materials, walls and bodies; its particles are replaced by
 // the checkpoint's.
 template <class Sim>
 void scene_only(Sim& sim, const test_parallel::SceneOptions& o) {
   test_parallel::populate(sim, o);
-}
-
-std::string bytes_of(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // `f` must throw IoError on every rank with a message containing `why`.
@@ -151,7 +92,7 @@ void expect_io_error(const parallel::MpiContext& mpi, const std::string& name, c
 void save_mode(const parallel::MpiContext& mpi, const std::string& dir) {
   const auto o = slab();
   const auto config = test_parallel::scene_config(o);
-  const auto bed = settled_bed(o, 12000);
+  const auto bed = test_parallel::settled_bed(o, 12000);
   const std::string R = std::to_string(mpi.size());
   const std::string one_file = dir + "/one_np" + R + ".ckpt", dist_file = dir + "/dist_np" + R + ".ckpt";
   if (mpi.root()) std::filesystem::create_directories(dir);
@@ -159,7 +100,7 @@ void save_mode(const parallel::MpiContext& mpi, const std::string& dir) {
 
   // The one-process run, its checkpoint (rank 0) and its state K steps on.
   Single one(config);
-  populate_bed(one, o, bed);
+  test_parallel::populate_bed(one, o, bed);
   one.run(kSave);
   if (mpi.root()) io::write_checkpoint(one, one_file);
   one.run(kAfter);
@@ -170,7 +111,7 @@ void save_mode(const parallel::MpiContext& mpi, const std::string& dir) {
   // The distributed run, its checkpoint, and its state K steps on.
   const parallel::RankGrid grid{{mpi.size(), 1, 1}};
   Distributed many(config, parallel::MpiDomains(mpi, grid));
-  populate_bed(many, o, bed);
+  test_parallel::populate_bed(many, o, bed);
   many.run(kSave);
   const auto at_save = many.gather();
   io::write_checkpoint(many, dist_file);
@@ -190,7 +131,7 @@ void save_mode(const parallel::MpiContext& mpi, const std::string& dir) {
     // Written again at once, the state gives the same file, byte for byte.
     io::write_checkpoint(again, dir + "/again_np" + R + ".ckpt");
     if (mpi.root())
-      check(bytes_of(dir + "/again_np" + R + ".ckpt") == bytes_of(dist_file),
+      check(file_contents(dir + "/again_np" + R + ".ckpt") == file_contents(dist_file),
             "restart: the file written again right after reading differs from the file read", 0);
     const auto loaded = again.gather();
     if (mpi.root()) {
@@ -224,7 +165,7 @@ void save_mode(const parallel::MpiContext& mpi, const std::string& dir) {
     io::read_checkpoint(solo, dist_file);
     check(solo.particles().owned() == bed.size(), "one process: not every particle read", 0);
     io::write_checkpoint(solo, dir + "/solo_np" + R + ".ckpt");
-    check(bytes_of(dir + "/solo_np" + R + ".ckpt") == bytes_of(dist_file),
+    check(file_contents(dir + "/solo_np" + R + ".ckpt") == file_contents(dist_file),
           "one process: the distributed file written again by one process differs", 0);
     solo.run(kAfter);
     judge("distributed file restarted in one process", solo.gather(), solo.wall(0).force, ref, f_ref, config.domain);
@@ -233,12 +174,12 @@ void save_mode(const parallel::MpiContext& mpi, const std::string& dir) {
 
   // Faults. A write that fails on rank 0 (its temporary name is taken by a directory): every
   // rank throws, the previous file is unchanged.
-  const std::string before = mpi.root() ? bytes_of(dist_file) : std::string();
+  const std::string before = mpi.root() ? file_contents(dist_file) : std::string();
   if (mpi.root()) std::filesystem::create_directory(dist_file + ".tmp");
   MPI_Barrier(mpi.comm());
   expect_io_error(mpi, "failed write", "write_checkpoint", [&] { io::write_checkpoint(many, dist_file); });
   if (mpi.root()) {
-    check(bytes_of(dist_file) == before, "failed write: the previous checkpoint changed", 0);
+    check(file_contents(dist_file) == before, "failed write: the previous checkpoint changed", 0);
     std::filesystem::remove(dist_file + ".tmp");
   }
   // A corrupted copy and a file of another scene: refused on every rank, the simulation unchanged.
@@ -252,7 +193,7 @@ void save_mode(const parallel::MpiContext& mpi, const std::string& dir) {
   other_config.dt = 0.5 * config.dt;
   {
     Distributed other(other_config, parallel::MpiDomains(mpi, grid));
-    populate_bed(other, o, bed);
+    test_parallel::populate_bed(other, o, bed);
     other.run(2);
     io::write_checkpoint(other, other_file);
   }

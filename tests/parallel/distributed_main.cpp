@@ -41,70 +41,13 @@
 
 #include "granule/granule.hpp"
 #include "granule/parallel/mpi_domains.hpp"
-#include "parallel/scene.hpp"
+#include "parallel/common.hpp"
 
 using namespace granule;
 using Vec = Dim3::Vec;
-using Single = Simulation<Dim3, contact::HertzMindlin, neighbours::VerletList>;
-using Distributed = Simulation<Dim3, contact::HertzMindlin, neighbours::VerletList, integrators::VelocityVerlet,
-                               parallel::MpiDomains>;
+using namespace granule::test_parallel;  // check, failures, Single, Distributed, ...
 
 namespace {
-
-int failures = 0;
-
-void check(bool ok, const std::string& what, int rank) {
-  if (!ok) {
-    ++failures;
-    std::printf("rank %d: FAILED: %s\n", rank, what.c_str());
-    std::fflush(stdout);
-  }
-}
-
-struct Report {
-  double dx = 0, dv = 0, dw = 0;  // largest differences: position / r, velocity, angular velocity
-  double floor = 0;               // relative difference of the floor force
-  bool same_ids = true;
-};
-
-Report compare(const GatheredParticles<Dim3>& a, const GatheredParticles<Dim3>& b, const Vec& fa, const Vec& fb,
-               const Domain<Dim3>& dom) {
-  Report r;
-  r.same_ids = a.size() == b.size() && a.id == b.id;
-  if (!r.same_ids) return r;
-  const Vec L = dom.length();
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    // Unwrapped positions: a particle may sit on the other side of a periodic face.
-    const Vec xa = a.x[i] + (a.image[i].cast<double>().array() * L.array()).matrix();
-    const Vec xb = b.x[i] + (b.image[i].cast<double>().array() * L.array()).matrix();
-    r.dx = std::max(r.dx, (xa - xb).norm() / a.radius[i]);
-    r.dv = std::max(r.dv, (a.v[i] - b.v[i]).norm());
-    r.dw = std::max(r.dw, (a.omega[i] - b.omega[i]).norm());
-  }
-  r.floor = (fa - fb).norm() / std::max(fb.norm(), 1e-300);
-  return r;
-}
-
-// The bed: the scene poured and settled in one process, then the positions (at rest) are the
-// start of both runs.
-std::vector<std::pair<Vec, double>> settled_bed(const test_parallel::SceneOptions& o, std::uint64_t steps) {
-  test_parallel::SceneOptions still = o;
-  still.floor_speed = 0.0;
-  Single s(test_parallel::scene_config(still));
-  test_parallel::populate(s, still);
-  s.run(steps);
-  const auto g = s.gather();
-  std::vector<std::pair<Vec, double>> bed;
-  for (std::size_t i = 0; i < g.size(); ++i) bed.push_back({g.x[i], g.radius[i]});
-  return bed;
-}
-
-template <class Sim>
-void populate_bed(Sim& sim, const test_parallel::SceneOptions& o, const std::vector<std::pair<Vec, double>>& bed) {
-  test_parallel::populate(sim, o);  // materials and walls; its lattice is replaced below
-  sim.remove_particles([](std::size_t) { return true; });
-  for (const auto& [x, r] : bed) sim.add_particle(x, r, 0);
-}
 
 // Every contact between particles of different ranks is held on both ranks (each evaluates it
 // for its own particle). Both must hold the same history: gathered to rank 0, keyed by (lower
@@ -172,14 +115,14 @@ Shared shared_histories(const parallel::MpiContext& mpi, const Distributed& sim)
 void run_case(const parallel::MpiContext& mpi, const std::string& name, const test_parallel::SceneOptions& o,
               parallel::RankGrid grid, std::uint64_t settle, std::uint64_t window, std::uint64_t steps,
               std::uint64_t every) {
-  const auto bed = settled_bed(o, settle);
+  const auto bed = test_parallel::settled_bed(o, settle);
   const auto config = test_parallel::scene_config(o);
   Single one(config);
-  populate_bed(one, o, bed);
+  test_parallel::populate_bed(one, o, bed);
   Distributed many(config, parallel::MpiDomains(mpi, grid));
-  populate_bed(many, o, bed);
+  test_parallel::populate_bed(many, o, bed);
   const bool exact = mpi.size() == 1;
-  Report worst;
+  test_parallel::Difference worst;
   std::uint64_t moved_in_window = 0, carried_in_window = 0;
   for (std::uint64_t done = 0; done < steps; done += every) {
     one.run(every);
@@ -193,7 +136,8 @@ void run_case(const parallel::MpiContext& mpi, const std::string& name, const te
     const auto& E = many.parallel_engine();
     const std::uint64_t moved = E.sum(E.migrated), carried = E.sum(E.carried_histories);
     if (!mpi.root()) continue;
-    const Report r = compare(g, one.gather(), many.wall(0).force, one.wall(0).force, config.domain);
+    const test_parallel::Difference r =
+        test_parallel::compare_gathered(g, one.gather(), many.wall(0).force, one.wall(0).force, config.domain);
     check(r.same_ids, name + ": the gather does not give every particle once in id order", 0);
     const bool in_window = one.step_count() <= window;
     if (in_window || exact) {
@@ -240,7 +184,7 @@ void threads_case(const parallel::MpiContext& mpi) {
   o.ny = 20;
   o.nz = 16;  // 5120 spheres
   o.floor_speed = 0.2;
-  const auto bed = settled_bed(o, 4000);
+  const auto bed = test_parallel::settled_bed(o, 4000);
   const auto config = test_parallel::scene_config(o);
   GatheredParticles<Dim3> g[2];
   std::size_t least = 0;
@@ -249,7 +193,7 @@ void threads_case(const parallel::MpiContext& mpi) {
     omp_set_num_threads(threads);
 #endif
     Distributed sim(config, parallel::MpiDomains(mpi));
-    populate_bed(sim, o, bed);
+    test_parallel::populate_bed(sim, o, bed);
     sim.run(300);
     least = static_cast<std::size_t>(mpi.min(static_cast<double>(sim.particles().owned())));
     g[threads - 1] = sim.gather();

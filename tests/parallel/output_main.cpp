@@ -29,32 +29,13 @@
 #include "granule/io/csv.hpp"
 #include "granule/io/vtk_pieces.hpp"
 #include "granule/parallel/mpi_domains.hpp"
-#include "parallel/scene.hpp"
+#include "parallel/common.hpp"
 
 using namespace granule;
 using Vec = Dim3::Vec;
-using Single = Simulation<Dim3, contact::HertzMindlin, neighbours::VerletList>;
-using Distributed = Simulation<Dim3, contact::HertzMindlin, neighbours::VerletList, integrators::VelocityVerlet,
-                               parallel::MpiDomains>;
+using namespace granule::test_parallel;  // check, failures, Single, Distributed, ...
 
 namespace {
-
-int failures = 0;
-
-void check(bool ok, const std::string& what, int rank) {
-  if (!ok) {
-    ++failures;
-    std::printf("rank %d: FAILED: %s\n", rank, what.c_str());
-    std::fflush(stdout);
-  }
-}
-
-std::string text_of(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // Compares a with b: bitwise when `exact`, else to `tol` relative to |b| (or to `scale`).
 void same(const std::string& what, double a, double b, bool exact, double tol, double scale = 0.0) {
@@ -164,13 +145,13 @@ int main(int argc, char** argv) {
       check(strong == strong1, "strong-force count differs", 0);
 
       // The .pvtu names every rank's piece; the pieces hold N particles together.
-      const std::string pvtu = text_of(last);
+      const std::string pvtu = file_contents(last);
       std::size_t pieces = 0, points = 0;
       for (std::size_t at = pvtu.find("<Piece Source=\""); at != std::string::npos;
            at = pvtu.find("<Piece Source=\"", at + 1)) {
         const std::size_t b = at + 15, e = pvtu.find('"', b);
         const std::string piece = pvtu.substr(b, e - b);
-        const std::string vtu = text_of(last.parent_path() / piece);
+        const std::string vtu = file_contents(last.parent_path() / piece);
         const std::size_t k = vtu.find("NumberOfPoints=\"");
         check(k != std::string::npos, "piece " + piece + " missing or unreadable", 0);
         if (k != std::string::npos) points += std::stoul(vtu.substr(k + 16));
@@ -179,7 +160,7 @@ int main(int argc, char** argv) {
       std::printf("  %s: %zu pieces, %zu particles\n", last.filename().string().c_str(), pieces, points);
       check(pieces == std::size_t(mpi.size()), "the .pvtu does not name one piece per rank", 0);
       check(points == bed.size(), "the pieces do not hold every particle once", 0);
-      const std::string pvd = text_of(out.pvd_path());
+      const std::string pvd = file_contents(out.pvd_path());
       check(pvd.find("particles_000000.pvtu") != std::string::npos && pvd.find("particles_000001.pvtu") != std::string::npos,
             "the .pvd does not list both frames", 0);
 #ifdef GRANULE_PYTHON
@@ -191,7 +172,7 @@ int main(int argc, char** argv) {
                               std::to_string(bed.size()) + " else 1)\" " + last.string();
       check(std::system(cmd.c_str()) == 0, "VTK's reader does not read the .pvtu with every particle", 0);
 #endif
-      const std::string csv_text = text_of(csv_path);
+      const std::string csv_text = file_contents(csv_path);
       std::size_t lines = 0;
       for (char ch : csv_text) lines += ch == '\n';
       check(lines == 4, "the CSV has " + std::to_string(lines) + " lines, not a header and 3 rows", 0);

@@ -18,27 +18,11 @@
 
 #include "granule/granule.hpp"
 #include "granule/parallel/mpi_domains.hpp"
-#include "parallel/scene.hpp"
+#include "parallel/common.hpp"
 
 using namespace granule;
 using Vec = Dim3::Vec;
-using Single = Simulation<Dim3, contact::HertzMindlin, neighbours::VerletList>;
-using Distributed = Simulation<Dim3, contact::HertzMindlin, neighbours::VerletList, integrators::VelocityVerlet,
-                               parallel::MpiDomains>;
-
-namespace {
-
-int failures = 0;
-
-void check(bool ok, const std::string& what, int rank) {
-  if (!ok) {
-    ++failures;
-    std::printf("rank %d: FAILED: %s\n", rank, what.c_str());
-    std::fflush(stdout);
-  }
-}
-
-}  // namespace
+using namespace granule::test_parallel;  // check, failures, Single, Distributed, ...
 
 int main(int argc, char** argv) {
   parallel::MpiContext mpi(argc, argv);

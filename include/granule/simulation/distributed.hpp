@@ -294,12 +294,6 @@ struct Simulation<D, Model, Search, Integrator, Parallel>::HaloHooks {
 };
 
 template <class D, class Model, class Search, class Integrator, class Parallel>
-template <class F>
-inline void Simulation<D, Model, Search, Integrator, Parallel>::collective(F&& f) {
-  dist_.context().collective(std::forward<F>(f));
-}
-
-template <class D, class Model, class Search, class Integrator, class Parallel>
 inline void Simulation<D, Model, Search, Integrator, Parallel>::rebuild_distributed() {
   double r_local = 0.0;
   for (std::size_t i = 0; i < particles_.owned(); ++i) r_local = std::max(r_local, particles_.radius[i]);
@@ -373,35 +367,12 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::reduce_wall_forc
   for (auto& w : walls_) { get(w.force); get(w.torque); }
 }
 
+// The start of step() in a distributed run: start_if_needed (simulation/integrate.hpp) with the
+// time-step checks collective.
 template <class D, class Model, class Search, class Integrator, class Parallel>
-inline void Simulation<D, Model, Search, Integrator, Parallel>::initialise_distributed() {
-  if (!initialised_) collective([&] {
-      check_pair_parameters();
-      check_time_step();
-    });
-  rebuild_distributed();
-  update_group_velocities(time_);
-  for (auto& b : bodies_) b.set_velocities(time_);
-  if (forces_ready_) {
-    initialised_ = true;
-    return;
-  }
-  forces_ready_ = true;
-  const bool pending = record_next_;
-  collective([&] { setup_forces(); });
-  reduce_wall_forces();
-  record_next_ = pending;
-  initialised_ = true;
-  collective([&] { check_rolling_time_step(); });
-}
-
-// step() of a distributed run: the same outline, with the rebuild decided by all ranks, the
-// remote ghosts refreshed, the body and wall forces summed over the ranks and every check
-// collective.
-template <class D, class Model, class Search, class Integrator, class Parallel>
-inline void Simulation<D, Model, Search, Integrator, Parallel>::step_distributed() {
+inline void Simulation<D, Model, Search, Integrator, Parallel>::start_distributed() {
   if (!list_valid_) {
-    initialise_distributed();
+    initialise();
   } else if (!initialised_) {
     collective([&] {
       check_time_step();
@@ -409,37 +380,6 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::step_distributed
     });
     initialised_ = true;
   }
-  const double dt = config_.dt;
-  update_group_velocities(time_ + 0.5 * dt);
-  const Drift drift = kick_and_drift(dt);
-  for (auto& b : bodies_) b.advance(time_, dt);
-  ++step_;
-  time_ = time_origin_ + static_cast<double>(step_ - step_origin_) * dt;
-  const bool record = contacts_wanted(step_);
-  if (dist_.any(drift.list_stale) || body_needs_rebuild()) {
-    rebuild_distributed();
-  } else {
-    refresh_ghosts();
-    refresh_remote_ghosts();
-  }
-  collective([&] {
-    struct Clear {
-      bool& flag;
-      ~Clear() { flag = false; }
-    } clear{one_material_};
-    one_material_ = drift.one_material;
-    compute_forces(record, /*owned_reset=*/kResetInDrift, /*check_finite=*/false);
-  });
-  reduce_wall_forces();
-  update_group_velocities(time_);
-  collective([&] { second_kick(dt); });
-  for (auto& b : bodies_)
-    b.work -= (b.force.dot(b.current_velocity) + D::dot(b.torque, b.current_angular_velocity)) * dt;
-  if (config_.check_rolling_stability && config_.stability_check_interval > 0 &&
-      step_ % config_.stability_check_interval == 0)
-    collective([&] { check_rolling_time_step(); });
-  for (auto& o : observers_)
-    if (step_ % o.every == 0) o.f(*this);
 }
 
 // save_state of a distributed run (docs/mpi.md, "Checkpoints"). Each rank sends its owned

@@ -57,15 +57,14 @@ inline double Simulation<D, Model, Search, Integrator, Parallel>::effective_skin
 
 template <class D, class Model, class Search, class Integrator, class Parallel>
 inline void Simulation<D, Model, Search, Integrator, Parallel>::initialise() {
-  if constexpr (Parallel::distributed) {
-    initialise_distributed();  // simulation/distributed.hpp
-    return;
-  }
-  if (!initialised_) {
-    check_pair_parameters();
-    check_time_step();
-  }
-  rebuild();
+  // In a distributed run (simulation/distributed.hpp) every check is collective (a failure on
+  // one rank is thrown on every rank), the rebuild migrates and exchanges halos and the body and
+  // wall forces of the set-up evaluation are summed over the ranks.
+  if (!initialised_) collective([&] {
+      check_pair_parameters();
+      check_time_step();
+    });
+  rebuild_everywhere();
   update_group_velocities(time_);
   for (auto& b : bodies_) b.set_velocities(time_);
   if (forces_ready_) {
@@ -78,10 +77,11 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::initialise() {
   forces_ready_ = true;
   // A pending request_contacts() is for the coming step, not this set-up evaluation.
   const bool pending = record_next_;
-  setup_forces();
+  collective([&] { setup_forces(); });
+  if constexpr (Parallel::distributed) reduce_wall_forces();
   record_next_ = pending;
   initialised_ = true;
-  check_rolling_time_step();
+  collective([&] { check_rolling_time_step(); });
 }
 
 // The set-up evaluation: the forces of the initial state for the first half kick. No time has
