@@ -375,9 +375,19 @@ def verdict(studies):
     b25 = by.get("box25")
     pk = paper_box_peak(b25["gaps"]["square"]) if b25 and b25["gaps"].get("square") else None
     if pk and pk["bracketed"]:
+        w = {r["gap_over_d"]: r["work_mean"] for r in b25["gaps"]["square"]}
+        second = max((g for g in w if g != pk["gap"] and g < 11), key=w.get)
+        # One bed's scatter at the peak gap: the 13 cm box's bed-to-bed standard deviation.
+        b13 = {r["gap_over_d"]: r for r in by.get("box13", {"gaps": {}})["gaps"].get("square", [])}
+        scatter = ""
+        if pk["gap"] in b13 and b13[pk["gap"]]["beds"] > 1:
+            r13 = b13[pk["gap"]]
+            sd = r13["work_se"] * math.sqrt(r13["beds"]) / r13["work_mean"]
+            scatter = f", against one bed's scatter of {100 * sd:.1f} % (the 13 cm box's beds at s/d = {fmt(pk['gap'])})"
         out.append(f"* 25 × 25 cm box (the paper's), 1 bed, s/d = {', '.join(fmt(g) for g in pk['gaps'])}: peak at "
                    f"s/d = {fmt(pk['gap'])} (parabola {fmt(pk['vertex'], 3)}), peak / plateau {pk['ratio']:.3f}: "
-                   f"{judge(pk['gap'], pk['ratio'])}.")
+                   f"{judge(pk['gap'], pk['ratio'])}. The next largest W, at s/d = {fmt(second)}, is "
+                   f"{100 * (pk['work'] - w[second]) / pk['work']:.1f} % lower{scatter}.")
     elif pk:
         out.append(f"* 25 × 25 cm box (the paper's), 1 bed: the peak is not located yet (largest W at s/d = "
                    f"{fmt(pk['gap'])} of {', '.join(fmt(g) for g in pk['gaps'])}; it needs the gaps on both sides).")
