@@ -156,29 +156,27 @@ struct MpiDomains {
     }
 
     /// As exchange(), with the sizes of in[] already set (a fixed plan: the ghost refresh).
+    /// Point to point with the ranks that have something to send or receive (both sides know
+    /// the sizes), so a step's refresh costs messages to the halo's neighbours only, not a
+    /// collective over all ranks (MPI_Alltoallv visits every rank: at 1000 ranks that is ~1000
+    /// latencies per step; docs/performance.md, "Distributed runs").
     void exchange_known(const std::vector<std::vector<char>>& out, std::vector<std::vector<char>>& in) const {
-      const int R = ranks();
-      std::vector<int> sc(R), sd(R), rc(R), rd(R);
-      std::vector<char> sbuf, rbuf;
-      for (int r = 0; r < R; ++r) {
-        if (r != rank() && !out[r].empty()) {
-          sent_bytes += out[r].size();
-          ++sent_messages;
-        }
-        sd[r] = static_cast<int>(sbuf.size());
-        sc[r] = static_cast<int>(out[r].size());
-        sbuf.insert(sbuf.end(), out[r].begin(), out[r].end());
-      }
-      int total = 0;
-      for (int r = 0; r < R; ++r) {
-        rd[r] = total;
-        rc[r] = static_cast<int>(in[r].size());
-        total += rc[r];
-      }
-      rbuf.resize(static_cast<std::size_t>(total));
-      MPI_Alltoallv(sbuf.data(), sc.data(), sd.data(), MPI_BYTE, rbuf.data(), rc.data(), rd.data(), MPI_BYTE, comm());
+      const int R = ranks(), me = rank();
+      constexpr int tag = 28;  // one exchange at a time: every request completes below
+      std::vector<MPI_Request> requests;
+      requests.reserve(2 * static_cast<std::size_t>(R));
       for (int r = 0; r < R; ++r)
-        if (rc[r] > 0) std::memcpy(in[r].data(), rbuf.data() + rd[r], static_cast<std::size_t>(rc[r]));
+        if (r != me && !in[r].empty())
+          MPI_Irecv(in[r].data(), static_cast<int>(in[r].size()), MPI_BYTE, r, tag, comm(),
+                    &requests.emplace_back());
+      for (int r = 0; r < R; ++r) {
+        if (r == me || out[r].empty()) continue;
+        sent_bytes += out[r].size();
+        ++sent_messages;
+        MPI_Isend(out[r].data(), static_cast<int>(out[r].size()), MPI_BYTE, r, tag, comm(), &requests.emplace_back());
+      }
+      if (!in[me].empty()) std::memcpy(in[me].data(), out[me].data(), in[me].size());
+      MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
     }
 
     /// Every rank's values on every rank, in rank order.
