@@ -1,17 +1,7 @@
 // Whole-scene throughput of granule on the two benchmark beds of issue 6, in particle-steps per
 // second, from a settled bed shared with the peer codes (benchmarks/run_peers.sh).
 //
-//   A  lunar bed (paper 001, table 2): R = 1.25 mm, rho = 2500 kg/m^3, E = 5 MPa, nu = 0.2,
-//      e = 0.5, mu_s = 1.0, EPSD rolling mu_r = 0.8, rolling damping eta_r = 0 by default
-//      (001 section 2.1: "the viscous damping component is neglected in this work"; table 2
-//      lists 2, selectable with --rolling-damping 2), SJKR k_c = 1000 J/m^3, g = 1.625 m/s^2,
-//      dt = 1e-6 s; periodic across the width x (2 cm, as in 001 section 2.2), floor z = 0 and
-//      end walls y = 0 and y = L; channel length L = 10 x fill height (001: 2 m by 20 cm).
-//      Contact model contact::HertzMindlinEpsdSjkr.
-//   B  intrusion bed (paper 000, table I): d = 2 mm, rho = 1100 kg/m^3, E = 5 MPa, nu = 0.3,
-//      e = 0.2, mu = 0.5, g = 9.81 m/s^2, dt = 5e-6 s; a box closed by a floor and four side
-//      walls (open top, like the LIGGGHTS stand-in), square section S x S filled to 0.4 S
-//      (000 fig. 1: 25 cm x 25 cm filled to 10 cm). Contact model contact::HertzMindlin.
+// The scenes A (lunar bed, paper 001) and B (intrusion bed, paper 000) are defined in beds.hpp.
 // Walls are planes of the particle material. Box sizes follow from the particle count and an
 // expected packing fraction (0.58 for A, 0.60 for B).
 //
@@ -63,6 +53,8 @@
 #include <granule/granule.hpp>
 #include <granule/io/lammps_data.hpp>
 
+#include "beds.hpp"
+
 namespace {
 
 using namespace granule;
@@ -87,53 +79,10 @@ struct Options {
   std::uint64_t seed = 20240611;
 };
 
-struct SceneSpec {
-  char name = 'B';
-  std::string model;
-  Material material;
-  double radius = 0.0;     // [m]
-  double dt = 0.0;         // [s]
-  double gravity = 0.0;    // [m/s^2], along -z
-  double packing = 0.6;    // [-] expected packing fraction (box sizing only)
-  bool periodic_x = false;
-};
-
-SceneSpec make_spec(char scene, double rolling_damping) {
-  SceneSpec s;
-  s.name = scene;
-  Material& m = s.material;
-  if (scene == 'A') {
-    s.model = "HertzMindlinEpsdSjkr";
-    m.name = "lunar";
-    m.youngs_modulus = 5.0e6;   // [Pa]
-    m.poisson_ratio = 0.2;      // [-]
-    m.density = 2500.0;         // [kg/m^3]
-    m.restitution = 0.5;        // [-]
-    m.friction = 1.0;           // [-]
-    m.rolling_friction = 0.8;   // [-]
-    m.rolling_damping = rolling_damping;  // [-]
-    m.cohesion_energy_density = 1000.0;   // [J/m^3]
-    s.radius = 1.25e-3;         // [m]
-    s.dt = 1.0e-6;              // [s]
-    s.gravity = 1.625;          // [m/s^2]
-    s.packing = 0.58;
-    s.periodic_x = true;
-  } else {
-    s.model = "HertzMindlin";
-    m.name = "poppy";
-    m.youngs_modulus = 5.0e6;   // [Pa]
-    m.poisson_ratio = 0.3;      // [-]
-    m.density = 1100.0;         // [kg/m^3]
-    m.restitution = 0.2;        // [-]
-    m.friction = 0.5;           // [-]
-    s.radius = 1.0e-3;          // [m]
-    s.dt = 5.0e-6;              // [s]
-    s.gravity = 9.81;           // [m/s^2]
-    s.packing = 0.60;
-    s.periodic_x = false;
-  }
-  return s;
-}
+using granule_bench::Box;
+using granule_bench::SceneSpec;
+using granule_bench::footprint;
+using granule_bench::make_spec;
 
 // ---- machine information ---------------------------------------------------------------------
 
@@ -211,35 +160,6 @@ void print_machine() {
 
 // ---- geometry of the scenes --------------------------------------------------------------------
 
-struct Box {
-  Vec lo = Vec::Zero(), hi = Vec::Zero();
-};
-
-// Horizontal extent of the bed for n particles; z extent is set by the lattice.
-Box footprint(const SceneSpec& s, std::size_t n) {
-  const double vp = Dim3::volume(s.radius, 1.0);
-  const double bed = static_cast<double>(n) * vp / s.packing;  // [m^3]
-  Box b;
-  if (s.name == 'A') {
-    const double width = 0.02;                          // [m] 001 section 2.2
-    const double height = std::sqrt(bed / (10.0 * width));
-    b.hi = Vec(width, 10.0 * height, height);
-  } else {
-    const double side = std::cbrt(bed / 0.4);
-    b.hi = Vec(side, side, 0.4 * side);
-  }
-  return b;
-}
-
-template <class D>
-Domain<D> domain_of(const SceneSpec& s, const Box& b) {
-  Domain<D> dom;
-  dom.lo = b.lo;
-  dom.hi = b.hi;
-  dom.periodic = typename Domain<D>::Flags(s.periodic_x, false, false);
-  return dom;
-}
-
 template <class Model>
 using Sim = Simulation<Dim3, Model, neighbours::VerletList>;
 
@@ -249,24 +169,13 @@ std::unique_ptr<Sim<Model>> make_sim(const SceneSpec& s, const Material& materia
                                      const std::vector<Vec>& x, const std::vector<double>& r,
                                      const std::vector<Vec>& v, bool packed = true,
                                      bool check_rolling = true) {
-  SimulationConfig<Dim3> cfg;
+  SimulationConfig<Dim3> cfg = granule_bench::config_of(s, box);
   cfg.packed_contacts = packed;
   cfg.check_rolling_stability = check_rolling;
-  cfg.domain = domain_of<Dim3>(s, box);
-  cfg.gravity = Vec(0.0, 0.0, -s.gravity);
   cfg.dt = dt;
   cfg.skin = skin;
   auto sim = std::make_unique<Sim<Model>>(cfg);
-  const std::uint32_t mat = sim->add_material(material);
-  const std::uint32_t wall_mat = sim->add_wall_material(material);
-  using Plane = geometry::PlaneShape<Dim3>;
-  sim->add_wall(Plane(box.lo, Vec::UnitZ()), wall_mat);
-  sim->add_wall(Plane(box.lo, Vec::UnitY()), wall_mat);
-  sim->add_wall(Plane(box.hi, -Vec::UnitY()), wall_mat);
-  if (!s.periodic_x) {
-    sim->add_wall(Plane(box.lo, Vec::UnitX()), wall_mat);
-    sim->add_wall(Plane(box.hi, -Vec::UnitX()), wall_mat);
-  }
+  const std::uint32_t mat = granule_bench::add_container(*sim, s, material, box);
   for (std::size_t i = 0; i < x.size(); ++i) sim->add_particle(x[i], r[i], mat, v[i]);
   return sim;
 }
