@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """Predicted parallel efficiency of granule's MPI policy at 16, 128 and 1024 ranks, from the
-costs measured by benchmarks/mpi/scaling.sh (out/bench/mpi_scaling.csv, best of its rounds),
+costs measured by benchmarks/mpi/scaling.sh (benchmarks/mpi/results/scaling.csv, best of its rounds),
 for paper 001's lunar channel at paper size and for a 10-million-particle bed (docs/performance.md,
 "Distributed runs"). Prints Markdown tables.
 
-    python3 benchmarks/mpi/model.py [out/bench/mpi_scaling.csv] [--alpha 2e-6] [--beta 10e9]
+    python3 benchmarks/mpi/model.py [benchmarks/mpi/results/scaling.csv] [--alpha 2e-6] [--beta 10e9]
 
 Per rank and step (n = N/P owned particles, g remote ghosts, m neighbour messages):
   compute    c1 n (1 + o) + c_g g     c1: one process, one thread (measured); o: the MPI policy's
@@ -88,7 +88,7 @@ def predict(N, L, periodic, r, phi, w, P, c, alpha, beta, K, n_w):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    ap.add_argument('csv', nargs='?', default='out/bench/mpi_scaling.csv')
+    ap.add_argument('csv', nargs='?', default='benchmarks/mpi/results/scaling.csv')
     ap.add_argument('--alpha', type=float, default=2e-6, help='latency per message [s]')
     ap.add_argument('--beta', type=float, default=10e9, help='bandwidth [B/s]')
     ap.add_argument('--rebuild-every', type=float, default=20.0, help='steps between rebuilds (flowing bed)')
@@ -103,7 +103,10 @@ def main():
         f = lambda case, key: float(rows[(s, case)][key])
         c1 = f('single_1x1', 's_per_particle_step')
         o = f('mpi_1x1', 's_per_particle_step') / c1 - 1.0
-        t_g = f('mpi_2x1', 'refresh_s_per_step') / f('mpi_2x1', 'ghosts_mean') if f('mpi_2x1', 'ghosts_mean') else 0.0
+        # Per ghost received from the other rank (bytes / 72 / ranks); scene A's ghosts_mean also
+        # counts its periodic images, which are copied locally within the same refresh.
+        remote = f('mpi_2x1', 'bytes_per_step') / 72.0 / f('mpi_2x1', 'ranks')
+        t_g = f('mpi_2x1', 'refresh_s_per_step') / remote if remote else 0.0
         reb = rows[(s, 'rebuilds_mpi_2x1')]
         t_rebuild = float(reb['migration_s_per_rebuild']) + float(reb['halo_build_s_per_rebuild'])
         costs[s] = dict(c1=c1, o=max(o, 0.0), t_g=t_g, t_rebuild=t_rebuild, n2=float(reb['particles']) / 2)
@@ -130,6 +133,27 @@ def main():
             parts = ' / '.join('%.1f' % (1e6 * p['parts'][k]) for k in ('compute', 'refresh', 'collective', 'rebuild'))
             print('| %s | %d | %s | %.0f | %.0f | %d | %s | %.2f | %.0f |' % (
                 name, P, p['grid'], p['n'], p['ghosts'], p['messages'], parts, p['eff'], p['core_ns']))
+    published()
+
+
+def published():
+    # Paper 001 (shared/papers/001_..., section 2.7 and table 5): LIGGGHTS on one node of 128
+    # cores (dual AMD EPYC 7763), 1.5 s simulated at dt = 1e-6 s (1.5e6 steps), v_p = 10 m/s,
+    # output included. Rows: length [m], height [cm], particles, clock time [h].
+    table5 = [(2, 20, 536180, 1.08), (2, 20, 575410, 1.12), (2, 20, 607953, 1.29), (2, 30, 814649, 1.51),
+              (2, 10, 270641, 0.91), (1, 20, 267545, 0.83), (3, 20, 804763, 1.48), (4, 20, 1072258, 2.36)]
+    print('\nPublished: LIGGGHTS, paper 001 table 5 (128 MPI ranks on one node, 1.5e6 steps, output included):\n')
+    print('| channel | particles | particles per rank | clock time [h] | core-ns per particle-step |')
+    print('|---|---|---|---|---|')
+    for length, height, n, hours in table5:
+        print('| %g m x %g cm | %d | %.0f | %.2f | %.0f |' % (length, height, n, n / 128, hours,
+                                                          1e9 * 128 * hours * 3600 / (n * 1.5e6)))
+    # LAMMPS's own benchmark logs (lammps/lammps, bench/log.15Jul25.chute.fixed.g++.1 and .4):
+    # granular chute flow, 32,000 particles, 100 steps; loop time 0.155391 s on 1 rank,
+    # 0.0451259 s on 4 (8000 particles per rank).
+    t1, t4 = 0.155391, 0.0451259
+    print('\nPublished: LAMMPS chute benchmark (bench/log.15Jul25.chute.fixed.g++.1/.4): 32,000 particles, '
+          '4 ranks: speed-up %.2f, efficiency %.2f (8000 particles per rank).' % (t1 / t4, t1 / (4 * t4)))
 
 
 if __name__ == '__main__':

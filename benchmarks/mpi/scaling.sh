@@ -13,7 +13,7 @@
 # is not bound.
 # Needs GRANULE_MPI=ON in BUILD_DIR and Open MPI (./granule.sh test-mpi installs it). Prepares
 # the beds once in out/bench/ (a few minutes each, 2 threads). Every run's summary line goes to
-# out/bench/mpi_scaling.csv (with commit, date and machine); a table is printed at the end.
+# benchmarks/mpi/results/scaling.csv (with commit, date and machine; docs/performance.md cites it); a table is printed at the end.
 # Run it on a quiet machine: a second job on a 2-core machine halves whichever run it meets.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -34,7 +34,7 @@ for scene in A B; do
   done
 done
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1  # as root (CI, containers)
-CSV="$BEDS/mpi_scaling.csv"
+CSV="$ROOT/benchmarks/mpi/results/scaling.csv"
 commit="$(git -C "$ROOT" rev-parse --short HEAD)"
 cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 echo "# commit=$commit date=$(date -u +%FT%TZ) machine=\"$cpu, $(nproc) logical CPUs\" steps=$STEPS repeat=$REPEAT" > "$CSV"
