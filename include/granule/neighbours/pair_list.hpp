@@ -76,6 +76,11 @@ class PairList {
   double build_rounding = 0.0;            ///< max over particles of |x - x_at_build| at the build [m]
   std::size_t builds = 0;
 
+  /// Changes whenever the rows, or the particles their slots name, may have changed (a rebuild,
+  /// a load): data derived from the rows and the particles' radii and masses (the engine's
+  /// per-pair constants) is stale when this differs from its value at the derivation. Not saved.
+  std::uint64_t generation() const { return generation_; }
+
   std::size_t layers() const { return layer_begin.empty() ? 0 : layer_begin.size() - 1; }
   std::size_t entries() const { return nbr.size(); }
 
@@ -121,6 +126,7 @@ class PairList {
   void detach(const ParticleStore<D>& p) {
     if (detached_ || row_begin.empty()) return;
     detached_ = true;
+    ++generation_;
     const std::size_t n = row_begin.size() - 1;
     old_row_of_id_.swap(row_of_id_);
     old_wall_begin_.swap(wall_begin);
@@ -193,6 +199,7 @@ class PairList {
     record_build_positions(p, n);
     detached_ = false;
     ++builds;
+    ++generation_;
   }
 
   /// Half the skin less the rounding of the build positions: a particle whose distance from
@@ -295,6 +302,7 @@ class PairList {
     read_saved(r);
     index_wall_rows();
     detached_ = false;
+    ++generation_;
   }
 
   /// Reads what save() wrote, without using it (check_loaded, then take_loaded).
@@ -384,6 +392,7 @@ class PairList {
     builds = loaded.builds;
     index_wall_rows();
     detached_ = false;
+    ++generation_;
   }
 
   /// Memory held by the list, its history and the search's work arrays [bytes].
@@ -756,6 +765,7 @@ class PairList {
   std::vector<Eigen::Matrix<int, D::dim, 1>> cell_coords_;
   std::vector<std::uint32_t> row_of_id_;
   bool detached_ = false;
+  std::uint64_t generation_ = 0;
   std::vector<std::uint32_t> old_row_begin_, old_row_of_id_, old_wall_begin_;
   std::vector<std::uint64_t> old_key_;
   std::vector<State> old_state_, old_wall_state_;
