@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <sstream>
@@ -38,6 +39,7 @@
 #include "granule/contact/touch_scan.hpp"
 #include "granule/core/dimension.hpp"
 #include "granule/core/error.hpp"
+#include "granule/core/vec2_lanes.hpp"
 #include "granule/integrators/predicted_damping.hpp"
 #include "granule/integrators/symplectic_euler.hpp"
 #include "granule/integrators/velocity_verlet.hpp"
