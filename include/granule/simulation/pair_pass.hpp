@@ -382,8 +382,8 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::evaluate_chunk(C
   static_assert(sizeof(Vec) == D::dim * sizeof(double) && sizeof(AngVec) == D::rot_dim * sizeof(double));
   const contact::PackedParticles pp{scalars(p.x), scalars(p.v), scalars(p.omega),
                                     p.radius.data(), p.inv_mass.data()};
-  contact::ContactGeometry<LD> g;
-  for (std::size_t k = 0; k < chunk.count; k += lane_width) {
+  // The geometry of the W contacts at k, with the overlap check.
+  const auto geometry = [&](std::size_t k, contact::ContactGeometry<LD>& g) {
     const std::size_t valid = std::min(lane_width, chunk.count - k);
     chunk.template geometry<Model::needs_rolling_inertia, Model::needs_twist, kPairConstants>(
         k, pp, dt, g, pair_constants_.data());
@@ -398,6 +398,10 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::evaluate_chunk(C
         acc.bad_wall = false;
       }
     }
+  };
+  // The law of the W contacts at k: history in, forces out, history back.
+  const auto law = [&](std::size_t k, const contact::ContactGeometry<LD>& g) {
+    const std::size_t valid = std::min(lane_width, chunk.count - k);
     PackedState s{};
     State* slots[lane_width];
     if constexpr (kHasState) {
@@ -408,6 +412,25 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::evaluate_chunk(C
     const contact::ContactForce<LD> cf = Model::evaluate(prm, g, s);
     if constexpr (kHasState) contact::PackedState<State, PackedState>::store(s, slots, valid);
     chunk.store_force(k, cf);
+  };
+  // 2D: two packs at a time, both geometries before both laws. The law is one chain of
+  // dependent steps through the history (its rotation and the sliding limit: two square roots
+  // and two divisions), so the two laws' chains, close together in the instruction stream,
+  // overlap in the core. The same operations per pack: the same bits.
+  std::size_t k = 0;
+  if constexpr (D::dim == 2) {
+    contact::ContactGeometry<LD> g0, g1;
+    for (; k + lane_width < chunk.count; k += 2 * lane_width) {
+      geometry(k, g0);
+      geometry(k + lane_width, g1);
+      law(k, g0);
+      law(k + lane_width, g1);
+    }
+  }
+  contact::ContactGeometry<LD> g;
+  for (; k < chunk.count; k += lane_width) {
+    geometry(k, g);
+    law(k, g);
   }
   // Pass 3, in entry order. (Keeping a row's sum in a register and writing it once per run
   // of equal i was 5 % slower in scene B: the run ends are unpredictable branches.)
