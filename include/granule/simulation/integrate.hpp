@@ -79,7 +79,7 @@ Simulation<D, Model, Search, Integrator, Parallel>::kick_and_drift(double dt) {
   // (Built here, not in the block: a pack assembled from stores of its lanes and loaded at
   // once waits for the stores, which a load of several cannot forward: 40 % of the pass.)
   const Lane g([&](auto l) { return gravity[l % 2]; });
-  const auto block = [=](std::size_t b, Lane& worst) -> bool {
+  const auto block = [=](std::size_t b, Lane& worst) GRANULE_ALWAYS_INLINE -> bool {
     if constexpr (blocks) {
       std::uint64_t modes = 0;  // (Motion::Free is 0)
       static_assert(W <= sizeof(modes) && sizeof(Motion) == 1);
@@ -127,7 +127,8 @@ Simulation<D, Model, Search, Integrator, Parallel>::kick_and_drift(double dt) {
   // range and the largest squared displacement (one-at-a-time particles in `worst`).
   const std::size_t nb = blocks ? n / W : 0;
   const std::size_t units = nb + (n - nb * W);
-  const auto unit = [=](std::size_t c, Lane& worst_lanes, double& worst, std::uint32_t& lo, std::uint32_t& hi) {
+  const auto unit = [=](std::size_t c, Lane& worst_lanes, double& worst, std::uint32_t& lo,
+                        std::uint32_t& hi) GRANULE_ALWAYS_INLINE {
     const std::size_t b = c < nb ? c * W : nb * W + (c - nb);
     const std::size_t e = c < nb ? b + W : b + 1;
     for (std::size_t i = b; i < e; ++i) {
@@ -213,7 +214,7 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::second_kick(doub
   // kick_and_drift); otherwise one at a time.
   constexpr bool blocks = kVec2Lanes && D::dim == 2;
   constexpr std::size_t W = lane_width;
-  const auto block = [=](std::size_t b) -> bool {
+  const auto block = [=](std::size_t b) GRANULE_ALWAYS_INLINE -> bool {
     if constexpr (blocks) {
       std::uint64_t modes = 0;  // (Motion::Free is 0)
       static_assert(W <= sizeof(modes) && sizeof(Motion) == 1);
@@ -246,7 +247,7 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::second_kick(doub
   };
   const std::size_t nb = blocks ? n / W : 0;
   const std::size_t units = nb + (n - nb * W);
-  const auto unit = [=](std::size_t c, std::size_t& bad) {
+  const auto unit = [=](std::size_t c, std::size_t& bad) GRANULE_ALWAYS_INLINE {
     const std::size_t b = c < nb ? c * W : nb * W + (c - nb);
     if (c < nb && block(b)) return;
     const std::size_t e = c < nb ? b + W : b + 1;
