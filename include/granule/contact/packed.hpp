@@ -69,6 +69,36 @@ struct PackedParticles {
   const double* inv_mass;
 };
 
+/// The terms of a pair's geometry that depend on its radii and inverse masses alone: R*, m* and
+/// the rolling inertia I_r, 5 of the 7 divisions of a packed 2D geometry. The 2D engine keeps
+/// them per neighbour-list entry, computed when the list is built or loaded
+/// (Simulation::pair_constants_), and the packed geometry reads one record per contact.
+/// The formulas below are the ones the packed geometry evaluates otherwise (same operations in
+/// the same order: the same bits for doubles and for packs).
+struct alignas(32) PairConstants {
+  double r_eff = 0.0;
+  double m_eff = 0.0;
+  double i_roll = 0.0;  ///< 0 unless the rolling law needs it
+  double unused = 0.0;  ///< (4 doubles: a record is one aligned 32-byte block)
+};
+
+/// R* = r_i r_j / (r_i + r_j), with rs = r_i + r_j (R: double or Lane).
+template <class R>
+inline R effective_radius(const R& r_i, const R& r_j, const R& rs) {
+  return r_i * r_j / rs;
+}
+/// m* = 1 / (1/m_i + 1/m_j).
+template <class R>
+inline R effective_mass(const R& im_i, const R& im_j) {
+  return 1.0 / (im_i + im_j);
+}
+/// I_r: 1/I_r = sum 1/(I + m r^2) = sum (1/m) / ((k + 1) r^2), k = inertia_factor (I = k m r^2).
+template <class R>
+inline R rolling_inertia(const R& r_i, const R& r_j, const R& im_i, const R& im_j, double inertia_factor) {
+  const double k1 = inertia_factor + 1.0;
+  return 1.0 / (im_i / (k1 * r_i * r_i) + im_j / (k1 * r_j * r_j));
+}
+
 /// Lanes of a 2-vector: lane l = the 2 doubles at base + 2 idx[l] (an array of 2-vectors).
 inline LaneVec2 gather_vec2_lanes(const double* base, const std::uint32_t* idx) {
   const double* rec[lane_width];
@@ -90,6 +120,7 @@ struct PairChunk {
   // per pair into the chunk; pass 2 now reads them from the particle arrays itself.)
   std::uint32_t i[Capacity], j[Capacity];
   std::uint32_t history[Capacity];  ///< history slot of each contact (PairList::slot)
+  std::uint32_t entry[Capacity];    ///< list entry of each contact (filled for the per-pair constants)
   // Outputs of pass 2, rows of out: force on i (Dim rows from fx), torques on i and j (3 rows
   // each in 3D, from tix and tjx; one row each in 2D, the z component).
   static constexpr std::size_t ang = Dim == 3 ? 3 : 1;
@@ -108,6 +139,7 @@ struct PairChunk {
       i[c] = i[count - 1];
       j[c] = j[count - 1];
       history[c] = history[count - 1];
+      entry[c] = entry[count - 1];
     }
   }
 
@@ -135,11 +167,17 @@ struct PairChunk {
 
   /// Geometry of the W contacts starting at k (as Simulation::pair_geometry for one contact).
   /// `RollingInertia` and `Twist` say whether the model needs i_roll and the twist angle.
-  template <bool RollingInertia, bool Twist>
-  void geometry(std::size_t k, const PackedParticles& p, double dt, ContactGeometry<LD>& g) const {
+  /// With `Cached`, R*, m* and I_r are read from `constants` (indexed by list entry, `entry`
+  /// filled), not computed.
+  template <bool RollingInertia, bool Twist, bool Cached = false>
+  void geometry(std::size_t k, const PackedParticles& p, double dt, ContactGeometry<LD>& g,
+                const PairConstants* constants = nullptr) const {
     using std::sqrt;
     using V = typename LD::Vec;
     using AngV = typename LD::AngVec;
+    // (2D: the gathers are most of what the geometry waits for; 3D keeps the buffer gathers,
+    // measured faster there, see GatherBy.)
+    constexpr GatherBy By = Dim == 2 ? GatherBy::registers : GatherBy::buffer;
     const std::uint32_t* const ik = &i[k];
     const std::uint32_t* const jk = &j[k];
     const auto vec = [](const double* base, const std::uint32_t* idx) -> V {
@@ -153,11 +191,11 @@ struct PairChunk {
       if constexpr (Dim == 3) {
         return gather_vec3_lanes(p.omega, idx);
       } else {
-        return gather_lanes(p.omega, idx);
+        return gather_lanes<By>(p.omega, idx);
       }
     };
     const V d = vec(p.x, ik) - vec(p.x, jk);
-    const Lane r_i = gather_lanes(p.radius, ik), r_j = gather_lanes(p.radius, jk);
+    const Lane r_i = gather_lanes<By>(p.radius, ik), r_j = gather_lanes<By>(p.radius, jk);
     const Lane rs = r_i + r_j;
     const Lane dist = sqrt(d.squaredNorm());
     const LaneMask apart = dist > 0.0;
@@ -175,9 +213,6 @@ struct PairChunk {
     g.r_j = r_j;
     g.arm_i = r_i - 0.5 * g.overlap;
     g.arm_j = r_j - 0.5 * g.overlap;
-    g.r_eff = r_i * r_j / rs;
-    const Lane im_i = gather_lanes(p.inv_mass, ik), im_j = gather_lanes(p.inv_mass, jk);
-    g.m_eff = 1.0 / (im_i + im_j);
     const AngV w_i = ang_vec(ik), w_j = ang_vec(jk);
     const V dv = vec(p.v, ik) - vec(p.v, jk);
     g.v_rel = dv - (g.arm_i * LD::cross(w_i, g.n) + g.arm_j * LD::cross(w_j, g.n));
@@ -185,11 +220,23 @@ struct PairChunk {
     g.vt = g.v_rel - g.vn * g.n;
     g.omega_rel = w_i - w_j;
     g.damp_at_kinematic_velocity();
-    if constexpr (RollingInertia) {
-      const double k1 = LD::inertia_factor + 1.0;
-      g.i_roll = 1.0 / (im_i / (k1 * r_i * r_i) + im_j / (k1 * r_j * r_j));
+    if constexpr (Cached) {
+      const double* rec[lane_width];
+      for (std::size_t l = 0; l < lane_width; ++l) rec[l] = &constants[entry[k + l]].r_eff;
+      Lane c[3];
+      transpose_in<RollingInertia ? 3 : 2>(rec, c);
+      g.r_eff = c[0];
+      g.m_eff = c[1];
+      g.i_roll = RollingInertia ? c[2] : Lane(0.0);
     } else {
-      g.i_roll = 0.0;
+      g.r_eff = effective_radius(r_i, r_j, rs);
+      const Lane im_i = gather_lanes(p.inv_mass, ik), im_j = gather_lanes(p.inv_mass, jk);
+      g.m_eff = effective_mass(im_i, im_j);
+      if constexpr (RollingInertia) {
+        g.i_roll = rolling_inertia(r_i, r_j, im_i, im_j, LD::inertia_factor);
+      } else {
+        g.i_roll = 0.0;
+      }
     }
     g.dt = dt;
     if constexpr (Twist && Dim == 3) {

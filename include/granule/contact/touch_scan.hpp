@@ -33,6 +33,10 @@ struct TouchScanInput {
   const std::uint32_t* nbr;
   const std::uint32_t* slot;
   std::uint32_t no_slot;  ///< the slot value of an entry without history (PairList::kNone)
+  /// r_i + r_j per entry (and 8 doubles of room after the last), or nullptr: the scan then adds
+  /// the radii itself. (The 2D engine keeps it with the per-pair constants: one load per block
+  /// instead of 16 scattered ones.)
+  const double* reach = nullptr;
 };
 
 /// One entry at a time: lists the touching entries of rows [r0, r1) in `touching` (entry
@@ -49,7 +53,7 @@ inline std::size_t scan_rows_scalar(const TouchScanInput& in, std::uint32_t r0, 
       const std::uint32_t j = in.nbr[e];
       const double* const xj = in.x + Dim * static_cast<std::size_t>(j);
       const double dx = xi[0] - xj[0], dy = xi[1] - xj[1];
-      const double rs = ri + in.radius[j];
+      const double rs = in.reach != nullptr ? in.reach[e] : ri + in.radius[j];
       double d2;
       if constexpr (Dim == 3) {
         const double dz = xi[2] - xj[2];
@@ -186,8 +190,11 @@ inline std::size_t scan_rows(const TouchScanInput& in, std::uint32_t r0, std::ui
       Lane xi[Dim], xj[Dim];
       transpose_in<Dim>(rec_i, xi);
       transpose_in<Dim>(rec_j, xj);
-      const Lane rs =
-          gather_lanes<GatherBy::registers>(in.radius, ip) + gather_lanes<GatherBy::registers>(in.radius, jp);
+      // (The lanes of the layer's last block past its end read the room after the last entry;
+      // `valid` drops them.)
+      const Lane rs = in.reach != nullptr ? Lane(in.reach + e, stdx::element_aligned)
+                                          : gather_lanes<GatherBy::registers>(in.radius, ip) +
+                                                gather_lanes<GatherBy::registers>(in.radius, jp);
       const detail::IndexPack iv = detail::load_indices(ip);
       const Lane dx = xi[0] - xj[0], dy = xi[1] - xj[1];
       Lane d2;

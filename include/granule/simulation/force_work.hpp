@@ -21,6 +21,13 @@
 #else
 #define GRANULE_FLATTEN
 #endif
+// For the per-particle passes' lambdas (simulation/integrate.hpp): out of line, their running
+// maximum went through memory from one block of particles to the next.
+#if defined(__GNUC__)
+#define GRANULE_ALWAYS_INLINE __attribute__((always_inline))
+#else
+#define GRANULE_ALWAYS_INLINE
+#endif
 
 namespace granule::simulation_parts {
 

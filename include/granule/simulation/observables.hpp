@@ -75,6 +75,7 @@ inline std::size_t Simulation<D, Model, Search, Integrator, Parallel>::memory_by
                           sizeof(typename ParticleStore<D>::Image);
   std::size_t work = v_damp_.capacity() * sizeof(Vec) + omega_damp_.capacity() * sizeof(AngVec);
   for (const auto& w : pair_work_) work += (w.entries.capacity() + w.rows.capacity()) * sizeof(std::uint32_t);
+  work += pair_constants_.capacity() * sizeof(contact::PairConstants) + pair_reach_.capacity() * sizeof(double);
   return p.x.capacity() * per + list_.memory_bytes() + work;
 }
 

@@ -49,6 +49,8 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::compute_forces(b
     a.wall_torque.assign(nw, D::zero_ang());
     a.records.clear();
   }
+  if constexpr (kPairConstants)
+    if (!record && config_.packed_contacts) update_pair_constants();
   const bool parallel = Search::uses_cells;
   // Three colours: layers l and l + 3 never touch the same particle or ghost. Each thread
   // takes one contiguous range of a colour's layers (static schedule), so that it works on
@@ -301,7 +303,8 @@ GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator, Parallel>::
     std::uint32_t* const sorted = work.entries.data();
     std::uint32_t* const rows = work.rows.data();
     const contact::TouchScanInput scan{scalars(p.x), p.radius.data(), list_.row_begin.data(),
-                                       list_.nbr.data(), kHasState ? list_.slot.data() : nullptr, List::kNone};
+                                       list_.nbr.data(), kHasState ? list_.slot.data() : nullptr, List::kNone,
+                                       kPairConstants ? pair_reach_.data() : nullptr};
     // (Slots are taken and given back in entry order, so they do not depend on threads.)
     const std::size_t nt = contact::scan_rows<D::dim>(scan, static_cast<std::uint32_t>(r0), static_cast<std::uint32_t>(r1),
                                               sorted, rows, [&](std::uint32_t e, bool touch) {
@@ -352,6 +355,7 @@ inline std::size_t Simulation<D, Model, Search, Integrator, Parallel>::fill_chun
       chunk.i[c] = i;
       chunk.j[c] = j;
       chunk.history[c] = kHasState ? list_.slot[e] : 0u;  // (no slots without history)
+      if constexpr (kPairConstants) chunk.entry[c] = e;
     }
   };
   if (one_material_) {
@@ -378,10 +382,11 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::evaluate_chunk(C
   static_assert(sizeof(Vec) == D::dim * sizeof(double) && sizeof(AngVec) == D::rot_dim * sizeof(double));
   const contact::PackedParticles pp{scalars(p.x), scalars(p.v), scalars(p.omega),
                                     p.radius.data(), p.inv_mass.data()};
-  contact::ContactGeometry<LD> g;
-  for (std::size_t k = 0; k < chunk.count; k += lane_width) {
+  // The geometry of the W contacts at k, with the overlap check.
+  const auto geometry = [&](std::size_t k, contact::ContactGeometry<LD>& g) {
     const std::size_t valid = std::min(lane_width, chunk.count - k);
-    chunk.template geometry<Model::needs_rolling_inertia, Model::needs_twist>(k, pp, dt, g);
+    chunk.template geometry<Model::needs_rolling_inertia, Model::needs_twist, kPairConstants>(
+        k, pp, dt, g, pair_constants_.data());
     const LaneMask deep = g.overlap > max_ratio * stdx::min(g.r_i, g.r_j);
     if (stdx::any_of(deep) && acc.bad_row == std::numeric_limits<std::size_t>::max()) {
       const std::size_t b = static_cast<std::size_t>(stdx::find_first_set(deep));
@@ -393,6 +398,10 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::evaluate_chunk(C
         acc.bad_wall = false;
       }
     }
+  };
+  // The law of the W contacts at k: history in, forces out, history back.
+  const auto law = [&](std::size_t k, const contact::ContactGeometry<LD>& g) {
+    const std::size_t valid = std::min(lane_width, chunk.count - k);
     PackedState s{};
     State* slots[lane_width];
     if constexpr (kHasState) {
@@ -403,6 +412,25 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::evaluate_chunk(C
     const contact::ContactForce<LD> cf = Model::evaluate(prm, g, s);
     if constexpr (kHasState) contact::PackedState<State, PackedState>::store(s, slots, valid);
     chunk.store_force(k, cf);
+  };
+  // 2D: two packs at a time, both geometries before both laws. The law is one chain of
+  // dependent steps through the history (its rotation and the sliding limit: two square roots
+  // and two divisions), so the two laws' chains, close together in the instruction stream,
+  // overlap in the core. The same operations per pack: the same bits.
+  std::size_t k = 0;
+  if constexpr (D::dim == 2) {
+    contact::ContactGeometry<LD> g0, g1;
+    for (; k + lane_width < chunk.count; k += 2 * lane_width) {
+      geometry(k, g0);
+      geometry(k + lane_width, g1);
+      law(k, g0);
+      law(k + lane_width, g1);
+    }
+  }
+  contact::ContactGeometry<LD> g;
+  for (; k < chunk.count; k += lane_width) {
+    geometry(k, g);
+    law(k, g);
   }
   // Pass 3, in entry order. (Keeping a row's sum in a register and writing it once per run
   // of equal i was 5 % slower in scene B: the run ends are unpredictable branches.)
@@ -429,6 +457,36 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::evaluate_chunk(C
   }
   acc.contacts += chunk.count;
   chunk.count = 0;
+}
+
+template <class D, class Model, class Search, class Integrator, class Parallel>
+inline void Simulation<D, Model, Search, Integrator, Parallel>::update_pair_constants() {
+  if (pair_constants_generation_ == list_.generation()) return;
+  const auto& p = particles_;
+  const std::size_t n = list_.row_begin.empty() ? 0 : list_.row_begin.size() - 1;
+  pair_constants_.assign(list_.nbr.size(), contact::PairConstants{});
+  pair_reach_.assign(list_.nbr.size() + 8, 0.0);  // (8 of room for the scan's last block)
+  contact::PairConstants* const out = pair_constants_.data();
+  double* const reach = pair_reach_.data();
+  const auto* const row_begin = list_.row_begin.data();
+  const auto* const nbr = list_.nbr.data();
+  const double* const radius = p.radius.data();
+  const double* const inv_mass = p.inv_mass.data();
+  // (The packed geometry's formulas, contact/packed.hpp: the same bits as computed per pack.)
+#pragma omp parallel for schedule(static) if (parallel_)
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::uint32_t e = row_begin[i]; e < row_begin[i + 1]; ++e) {
+      const std::uint32_t j = nbr[e];
+      const double r_i = radius[i], r_j = radius[j], im_i = inv_mass[i], im_j = inv_mass[j];
+      reach[e] = r_i + r_j;
+      contact::PairConstants& c = out[e];
+      c.r_eff = contact::effective_radius(r_i, r_j, r_i + r_j);
+      c.m_eff = contact::effective_mass(im_i, im_j);
+      if constexpr (Model::needs_rolling_inertia)
+        c.i_roll = contact::rolling_inertia(r_i, r_j, im_i, im_j, D::inertia_factor);
+    }
+  }
+  pair_constants_generation_ = list_.generation();
 }
 
 // The doubles of a vector of small vectors, for the packed passes' raw-pointer inputs; null when
