@@ -5,6 +5,8 @@
 // particles that the StreamSchedule says are due, at random non-overlapping positions in the
 // region (scene::insert_random), with a given initial velocity.
 // The generator state travels with checkpoints: rng_state()/set_rng_state() and inserted().
+// Distributed (parallel::MpiDomains): construct and update it on every rank; the particles near
+// the region are gathered from every rank, so all place the same ones (docs/mpi.md).
 #include <algorithm>
 #include <cstdint>
 #include <span>

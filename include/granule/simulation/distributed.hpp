@@ -18,6 +18,9 @@
 //
 // Set-up: every rank builds the whole scene with the same calls; the first build makes the
 // decomposition from all particles (the same on every rank, no message) and keeps each rank's own.
+// Later every rank still makes the same add_particle calls (the owner of the position keeps the
+// particle) and removes of its own; each rebuild checks the ranks added alike and the count over
+// the ranks (HaloHooks::after_wrap; docs/mpi.md, "Insertion and removal").
 // Included by granule/simulation.hpp at its end: include that header, not this one.
 #include <array>
 #include <chrono>
