@@ -258,7 +258,8 @@ void error_case(const parallel::MpiContext& mpi, double speed, const std::string
 // between (b) and (c) the distributed run is written to a checkpoint and read back, and a layer
 // is added before its first step and another after it.
 // The gathered state is compared with the one-process run after every phase (ids, count,
-// positions within 1e-7 r; bitwise with one rank).
+// positions within 1e-7 r; bitwise with one rank until the restart); then surface_height and
+// settle's kinetic energy per particle (over every rank) are compared.
 void insertion_case(const parallel::MpiContext& mpi) {
   test_parallel::SceneOptions o;
   o.nx = 8;
@@ -395,6 +396,23 @@ void insertion_case(const parallel::MpiContext& mpi) {
   check(placed_one == placed_many && placed_one == 40, "insert: the pour placed " + std::to_string(placed_many) +
         " over the ranks, one process " + std::to_string(placed_one) + " (40 due)", mpi.rank());
   if (mpi.root()) std::printf("insert: the pour placed %zu\n", placed_many);
+
+  // The settling helpers on every rank's particles: surface_height and settle's kinetic energy
+  // per particle (50 steps, never quiet) are those of one process on every rank.
+  const double h_one = scene::surface_height(one, 1), h_many = scene::surface_height(*many_ptr, 1);
+  scene::SettleOptions so;
+  so.max_time = 50 * config.dt;
+  so.check_interval = 25 * config.dt;
+  so.kinetic_energy_per_particle = 0.0;
+  const auto settle_one = scene::settle(one, so), settle_many = scene::settle(*many_ptr, so);
+  const double ke_rel = std::abs(settle_many.kinetic_energy_per_particle - settle_one.kinetic_energy_per_particle) /
+                        settle_one.kinetic_energy_per_particle;
+  check(std::abs(h_many - h_one) < 1e-7 * o.radius, "insert: surface_height differs from one process", mpi.rank());
+  check(ke_rel < 1e-6 && settle_many.time == settle_one.time, "insert: settle's kinetic energy per particle differs "
+        "from one process by " + std::to_string(ke_rel) + " relative", mpi.rank());
+  if (mpi.root())
+    std::printf("insert: surface height %.9g m (one process %.9g m), settle's KE per particle rel. diff. %.3g\n",
+                h_many, h_one, ke_rel);
 
   if (!mpi.root()) return;
   if (exact)
