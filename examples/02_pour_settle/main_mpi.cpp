@@ -2,7 +2,7 @@
 // glass beads dropped into the same 3 x 3 x 12 cm box as 02_pour_settle and settled under gravity,
 // run on several MPI ranks with parallel::MpiDomains. Every rank builds the same scene with the
 // same calls (the beads start on a jittered lattice in the upper part of the box, all inserted
-// before the first step: insertion during a distributed run is not supported yet); the box is cut
+// before the first step; a scene::Pour during the run would work too, docs/mpi.md); the box is cut
 // between the ranks and recut as the beads fall (rebalance at max/mean 1.2). Output: a CSV time
 // series written by rank 0 (kinetic energy and contacts, summed over the ranks), VTK frames as
 // one .vtu piece per rank with a .pvtu and particles.pvd for ParaView, and a checkpoint at the

@@ -127,6 +127,8 @@ class Simulation {
 
   /// Adds a particle and returns its stable id. `omega`: initial angular velocity [rad/s]
   /// (2D: the scalar about z). Frozen and prescribed groups set v and omega themselves.
+  /// Distributed (parallel::MpiDomains): every rank makes the same calls; after the first step
+  /// only the rank whose region holds x keeps the particle (docs/mpi.md).
   std::uint64_t add_particle(const Vec& x, double radius, std::uint32_t material,
                              const Vec& v = Vec::Zero(), std::uint32_t group = 0,
                              const AngVec& omega = D::zero_ang());
@@ -161,7 +163,9 @@ class Simulation {
 
   /// Removes the particles for which pred(slot) is true (e.g. above a fill height). The contact
   /// records of the current step name slots that no longer hold the same particles, so they are
-  /// dropped: frame() then has no contacts until the next recorded step.
+  /// dropped: frame() then has no contacts until the next recorded step. Returns how many
+  /// were removed. Distributed, after the first step: pred sees each rank's own particles, the
+  /// call is collective and returns the count over the ranks (docs/mpi.md).
   template <class Pred>
   std::size_t remove_particles(Pred&& pred);
 

@@ -13,7 +13,12 @@
 //            bitwise the 1-thread result;
 //   error    one rank's particle is thrown at the lid, through it (the rebuild's domain check)
 //            and into it (the force pass's overlap check): that rank's InstabilityError is thrown
-//            on every rank with its message ("rank r of n: ..."), no hang (ctest timeout).
+//            on every rank with its message ("rank r of n: ..."), no hang (ctest timeout);
+//   insert   insertion and removal after the first step: a layer of spheres added at fixed
+//            positions, remove_above, a scene::Pour streaming into the bed's top, each compared
+//            with the same calls in one process (ids, count, positions); with 2 and 4 ranks also
+//            ranks that add different numbers of particles: the named InvalidParameter on every
+//            rank, no hang.
 //
 // Equality: not bitwise. A particle's contact forces are summed in an order fixed by its rank's
 // list (slots sorted by the rank's own cells), so the last bits differ from the one-process sum
@@ -33,14 +38,19 @@
 #include <cstdlib>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <string>
+#include <type_traits>
 
 #ifdef _OPENMP
 #include <omp.h>
 #endif
 
 #include "granule/granule.hpp"
+#include "granule/io/checkpoint.hpp"
 #include "granule/parallel/mpi_domains.hpp"
+#include "granule/scene/pour.hpp"
+#include "granule/scene/settle.hpp"
 #include "parallel/common.hpp"
 
 using namespace granule;
@@ -239,6 +249,211 @@ void error_case(const parallel::MpiContext& mpi, double speed, const std::string
   if (ok) std::printf("rank %d: stopped with: %s\n", mpi.rank(), what.c_str());
 }
 
+// Insertion and removal after the first step (docs/mpi.md, "Insertion and removal"), against
+// the same calls in one process: a settled bed runs, then (a) a layer of spheres is added at
+// fixed positions just above it (every rank makes the same add_particle calls; the owner of
+// each position keeps it), (b) the particles above a height are removed (scene::remove_above:
+// each rank removes of its own), (c) a scene::Pour streams spheres into a region that takes in
+// the bed's top (the obstacles gathered from every rank in id order), each followed by a run;
+// between (b) and (c) the distributed run is written to a checkpoint and read back, and a layer
+// is added before its first step and another after it.
+// The gathered state is compared with the one-process run after every phase (ids, count,
+// positions within 1e-7 r; bitwise with one rank until the restart); then surface_height and
+// settle's kinetic energy per particle (over every rank) are compared.
+void insertion_case(const parallel::MpiContext& mpi) {
+  test_parallel::SceneOptions o;
+  o.nx = 8;
+  o.ny = 6;
+  o.nz = 6;  // 288 spheres
+  o.floor_speed = 0.0;  // (a sheared bed drifts from the one-process run by itself after ~500 steps)
+  const auto bed = test_parallel::settled_bed(o, 6000);
+  const auto config = test_parallel::scene_config(o);
+  Single one(config);
+  test_parallel::populate_bed(one, o, bed);
+  // (Periodic x split across the ranks: the layer added above the bed spreads over them.)
+  const parallel::RankGrid grid{{mpi.size(), 1, 1}};
+  auto many_ptr = std::make_unique<Distributed>(config, parallel::MpiDomains(mpi, grid));
+  test_parallel::populate_bed(*many_ptr, o, bed);
+  const bool exact = mpi.size() == 1;
+  const double s = 2.4 * o.radius;
+  double top = 0.0;
+  for (const auto& [x, r] : bed) top = std::max(top, x[1] + r);
+  test_parallel::Difference worst, worst_restarted;
+  bool restarted = false;  // (a restart is not bitwise: it rebuilds where the uninterrupted run did not)
+  // Runs both for n steps in chunks of `every` (calling `between` on both after each chunk),
+  // comparing the gathered states after each chunk.
+  auto run_both = [&](const std::string& phase, std::uint64_t n, std::uint64_t every, auto&& between) {
+    for (std::uint64_t done = 0; done < n; done += every) {
+      one.run(every);
+      many_ptr->run(every);
+      between(one);
+      between(*many_ptr);
+      const auto g = many_ptr->gather();
+      if (!mpi.root()) continue;
+      const auto r = test_parallel::compare_gathered(g, one.gather(), many_ptr->wall(0).force, one.wall(0).force,
+                                                     config.domain);
+      check(r.same_ids, phase + ": the gather does not hold the one-process particles (" +
+                            std::to_string(g.size()) + " against " + std::to_string(one.gather().size()) + ")", 0);
+      test_parallel::Difference& w = restarted ? worst_restarted : worst;
+      w.dx = std::max(w.dx, r.dx);
+      w.dv = std::max(w.dv, r.dv);
+      w.dw = std::max(w.dw, r.dw);
+      w.floor = std::max(w.floor, r.floor);
+      std::printf("insert %s step %lu: %zu particles; max |dx|/r %.3g, |dv| %.3g m/s, |domega| %.3g 1/s, "
+                  "floor force rel %.3g\n", phase.c_str(), (unsigned long)one.step_count(), g.size(), r.dx, r.dv,
+                  r.dw, r.floor);
+    }
+  };
+  auto nothing = [](auto&) {};
+  run_both("start", 50, 50, nothing);
+
+  // (a) A layer of nx x nz spheres just above the bed, falling onto it.
+  std::uint64_t first_new = 0, last_new = 0;
+  double speed = 0.2;  // of the layers, downwards [m/s]
+  auto add_layer = [&](auto& sim) {
+    std::uint64_t first = 0, last = 0;
+    for (int k = 0; k < o.nz; ++k)
+      for (int i = 0; i < o.nx; ++i) {
+        const double r = o.radius * (0.9 + 0.02 * ((i + 2 * k) % 5));
+        const Vec x((i + 0.5) * s + 0.05 * o.radius * (k % 3), top + 1.2 * o.radius, (k + 0.5) * s);
+        const std::uint64_t id = sim.add_particle(x, r, 0, Vec(0.0, -speed, 0.01 * (i % 3)));
+        if (i == 0 && k == 0) first = id;
+        last = id;
+      }
+    first_new = first;
+    last_new = last;
+  };
+  add_layer(one);
+  const std::uint64_t one_first = first_new, one_last = last_new;
+  add_layer(*many_ptr);
+  check(first_new == one_first && last_new == one_last, "insert: add_particle returned other ids than in one process",
+        mpi.rank());
+  run_both("added", 200, 50, nothing);
+  {
+    std::uint64_t mine = 0;
+    for (std::size_t i = 0; i < many_ptr->particles().owned(); ++i)
+      mine += many_ptr->particles().id[i] >= first_new ? 1 : 0;
+    const auto& E = many_ptr->parallel_engine();
+    const std::uint64_t held = E.sum(mine > 0 ? std::uint64_t(1) : std::uint64_t(0));
+    const std::uint64_t total = E.sum(static_cast<std::uint64_t>(many_ptr->particles().owned()));
+    check(total == bed.size() + std::size_t(o.nx * o.nz), "insert: the ranks hold " + std::to_string(total) +
+          " particles, not " + std::to_string(bed.size() + std::size_t(o.nx * o.nz)), mpi.rank());
+    check(E.total == total, "insert: the engine's total is not the count over the ranks",
+          mpi.rank());
+    if (mpi.root()) std::printf("insert: %d spheres added, held by %lu rank(s)\n", o.nx * o.nz, (unsigned long)held);
+    check(exact || held > 1, "insert: the added spheres all went to one rank (the test would prove little)", 0);
+  }
+
+  // (b) Removal above a height: the top of the new layer and some of the bed's top.
+  const double cut = top - 1.5 * o.radius;
+  const std::size_t removed_one = scene::remove_above(one, 1, cut);
+  const std::size_t removed_many = scene::remove_above(*many_ptr, 1, cut);
+  check(removed_one == removed_many && removed_one > 0, "insert: remove_above removed " +
+        std::to_string(removed_many) + " over the ranks, one process " + std::to_string(removed_one), mpi.rank());
+  if (mpi.root()) std::printf("insert: remove_above(%.4g m) removed %zu\n", cut, removed_one);
+  run_both("removed", 100, 50, nothing);
+
+  // A checkpoint of the distributed run, read back (on the same ranks: every rank holds the
+  // whole state until its first step re-decomposes it), then a second layer added before that
+  // first step and a second after it, in both runs.
+  const std::string file = "mpi_insert_np" + std::to_string(mpi.size()) + ".ckpt";  // (ctest: the build's tests/)
+  io::write_checkpoint(*many_ptr, file);
+  many_ptr = std::make_unique<Distributed>(config, parallel::MpiDomains(mpi, grid));
+  test_parallel::populate_bed(*many_ptr, o, {});
+  io::read_checkpoint(*many_ptr, file);
+  restarted = true;
+  speed = 0.05;
+  top = cut + 1.1 * o.radius;  // (centres at cut + 2.3 r: clear of what remained below the cut)
+  add_layer(one);
+  const std::uint64_t second_one = first_new;
+  add_layer(*many_ptr);
+  check(first_new == second_one, "insert: after the restart add_particle returned other ids than in one process",
+        mpi.rank());
+  run_both("restarted", 50, 50, nothing);
+  top = cut + 3.3 * o.radius;
+  add_layer(one);
+  add_layer(*many_ptr);
+  run_both("restarted", 100, 50, nothing);
+
+  // (c) A pour into a region that takes in the bed's top: 40 spheres over 150 steps.
+  using Region = geometry::Aabb<Dim3>;
+  const Region region{Vec(0.5 * o.radius, cut - 2.0 * o.radius, 0.5 * o.radius),
+                      Vec(o.nx * s - 0.5 * o.radius, (o.ny + 3.5) * s, o.nz * s - 0.5 * o.radius)};
+  const double rate = 40.0 / (150 * config.dt);
+  scene::Pour<Single> pour_one(one, region, scene::UniformSizes(0.8 * o.radius, 1.0 * o.radius),
+                               scene::StreamSchedule(rate, 40, one.time()), 0, Vec(0.0, -0.05, 0.0), 0, 7);
+  scene::Pour<Distributed> pour_many(*many_ptr, region, scene::UniformSizes(0.8 * o.radius, 1.0 * o.radius),
+                                     scene::StreamSchedule(rate, 40, many_ptr->time()), 0, Vec(0.0, -0.05, 0.0), 0,
+                                     7);
+  std::size_t placed_one = 0, placed_many = 0;
+  auto pour = [&](auto& sim) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(sim)>, Single>)
+      placed_one += pour_one.update();
+    else
+      placed_many += pour_many.update();
+  };
+  run_both("pour", 200, 25, pour);
+  check(placed_one == placed_many && placed_one == 40, "insert: the pour placed " + std::to_string(placed_many) +
+        " over the ranks, one process " + std::to_string(placed_one) + " (40 due)", mpi.rank());
+  if (mpi.root()) std::printf("insert: the pour placed %zu\n", placed_many);
+
+  // The settling helpers on every rank's particles: surface_height and settle's kinetic energy
+  // per particle (50 steps, never quiet) are those of one process on every rank.
+  const double h_one = scene::surface_height(one, 1), h_many = scene::surface_height(*many_ptr, 1);
+  scene::SettleOptions so;
+  so.max_time = 50 * config.dt;
+  so.check_interval = 25 * config.dt;
+  so.kinetic_energy_per_particle = 0.0;
+  const auto settle_one = scene::settle(one, so), settle_many = scene::settle(*many_ptr, so);
+  const double ke_rel = std::abs(settle_many.kinetic_energy_per_particle - settle_one.kinetic_energy_per_particle) /
+                        settle_one.kinetic_energy_per_particle;
+  check(std::abs(h_many - h_one) < 1e-7 * o.radius, "insert: surface_height differs from one process", mpi.rank());
+  check(ke_rel < 1e-6 && settle_many.time == settle_one.time, "insert: settle's kinetic energy per particle differs "
+        "from one process by " + std::to_string(ke_rel) + " relative", mpi.rank());
+  if (mpi.root())
+    std::printf("insert: surface height %.9g m (one process %.9g m), settle's KE per particle rel. diff. %.3g\n",
+                h_many, h_one, ke_rel);
+
+  if (!mpi.root()) return;
+  if (exact)
+    check(worst.dx == 0 && worst.dv == 0 && worst.dw == 0 && worst.floor == 0,
+          "insert: one rank is not bitwise the one-process run before the restart", 0);
+  for (const test_parallel::Difference& w : {worst, worst_restarted}) {
+    check(w.dx < 1e-7, "insert: positions differ from the one-process run by more than 1e-7 r", 0);
+    check(w.dv < 1e-6, "insert: velocities differ by more than 1e-6 m/s", 0);
+    check(w.floor < 1e-7, "insert: the floor force differs by more than 1e-7 relative", 0);
+  }
+  std::printf("insert: largest differences from one process: before the restart %.3g r, after it %.3g r\n",
+              worst.dx, worst_restarted.dx);
+}
+
+// Ranks that add different numbers of particles after the first step (rank r adds r + 1, or
+// only rank 0 adds one) get the named InvalidParameter at the next step on every rank.
+void mismatch_case(const parallel::MpiContext& mpi, bool only_root) {
+  test_parallel::SceneOptions o;
+  o.nx = 6;
+  o.ny = 4;
+  o.nz = 4;
+  Distributed sim(test_parallel::scene_config(o), parallel::MpiDomains(mpi));
+  test_parallel::populate(sim, o);
+  sim.run(5);
+  const double s = 2.4 * o.radius;
+  const int n = only_root ? (mpi.root() ? 1 : 0) : mpi.rank() + 1;
+  for (int k = 0; k < n; ++k) sim.add_particle(Vec((k + 0.5) * s, (o.ny + 2.5) * s, 0.5 * s), o.radius, 0);
+  std::string what;
+  try {
+    sim.run(1);
+  } catch (const InvalidParameter& e) {
+    what = e.what();
+  }
+  const std::string expected = "MpiDomains: the ranks added different numbers of particles since the last rebuild (" +
+                               std::to_string(only_root ? 0 : 1) + " to " + std::to_string(only_root ? 1 : mpi.size()) +
+                               "); every rank must make the same add_particle calls";
+  const bool ok = what.rfind(expected, 0) == 0;
+  check(ok, "mismatch: expected \"" + expected + "\", got \"" + what + "\"", mpi.rank());
+  if (ok) std::printf("rank %d: stopped with: %s\n", mpi.rank(), what.c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -250,6 +465,12 @@ int main(int argc, char** argv) {
       error_case(mpi, 40.0, "exceeds max_overlap_ratio");
     } else if (mode == "threads") {
       threads_case(mpi);
+    } else if (mode == "insert") {
+      insertion_case(mpi);
+      if (mpi.size() > 1) {
+        mismatch_case(mpi, false);
+        mismatch_case(mpi, true);
+      }
     } else {
       test_parallel::SceneOptions column;
       run_case(mpi, "column", column, parallel::RankGrid{{0, 0, 0}}, 12000, 400, 2000, 100);

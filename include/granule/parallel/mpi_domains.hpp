@@ -102,8 +102,14 @@ struct MpiDomains {
     std::size_t remote_begin = 0;
     /// Counters for tests and logs: particles sent away, contact histories they carried.
     std::uint64_t migrated = 0, carried_histories = 0;
-    /// Particles over all ranks at the first build.
+    /// Particles over all ranks at the last build.
     std::uint64_t total = 0;
+    /// Insertion and removal between builds (docs/mpi.md, "Insertion and removal"): the
+    /// Simulation's next id at the last build (every rank's add_particle calls since then
+    /// advance it alike; a new particle is kept by the rank that owns its position only), and
+    /// the particles this rank removed since then.
+    std::uint64_t next_id_at_build = 0;
+    std::uint64_t removed_since_build = 0;
 
     bool any(bool b) const {
       int in = b ? 1 : 0, out = 0;
@@ -111,10 +117,20 @@ struct MpiDomains {
       return out != 0;
     }
     double max(double x) const { return context().max(x); }
+    double min(double x) const { return context().min(x); }
     std::uint64_t sum(std::uint64_t x) const {
       std::uint64_t out = 0;
       MPI_Allreduce(&x, &out, 1, MPI_UINT64_T, MPI_SUM, comm());
       return out;
+    }
+
+    /// Element-wise maximum and sum over the ranks, in place (one collective for several
+    /// values).
+    void max(std::vector<double>& a) const {
+      MPI_Allreduce(MPI_IN_PLACE, a.data(), static_cast<int>(a.size()), MPI_DOUBLE, MPI_MAX, comm());
+    }
+    void sum(std::vector<std::uint64_t>& a) const {
+      MPI_Allreduce(MPI_IN_PLACE, a.data(), static_cast<int>(a.size()), MPI_UINT64_T, MPI_SUM, comm());
     }
 
     /// Element-wise sum of equal-length arrays added in rank order, ((a_0 + a_1) + a_2) + ...,

@@ -50,7 +50,12 @@ SettleResult settle(Sim& sim, const SettleOptions& o) {
     // kinetic energy is artificially small.
     const bool zeroing = steps_per_zero != std::numeric_limits<std::uint64_t>::max();
     if (zeroing ? k % steps_per_zero == 0 : k % steps_per_check == 0) {
-      const std::size_t n = std::max<std::size_t>(1, sim.particles().owned());
+      std::size_t n = sim.particles().owned();
+      if constexpr (Sim::ParallelPolicy::distributed) {
+        // (kinetic_energy() is over every rank: so is the count, so every rank decides alike.)
+        if (sim.parallel_engine().decomposition) n = static_cast<std::size_t>(sim.parallel_engine().sum(std::uint64_t(n)));
+      }
+      n = std::max<std::size_t>(1, n);
       res.kinetic_energy_per_particle = sim.kinetic_energy() / static_cast<double>(n);
       if (o.on_check) o.on_check(sim.time(), res.kinetic_energy_per_particle);
       if (res.kinetic_energy_per_particle < o.kinetic_energy_per_particle) {
@@ -70,7 +75,8 @@ SettleResult settle(Sim& sim, const SettleOptions& o) {
   return res;
 }
 
-/// Deletes the particles whose centre lies above `height` along `axis` [m]; returns how many.
+/// Deletes the particles whose centre lies above `height` along `axis` [m]; returns how many
+/// (distributed: over every rank, collective).
 template <class Sim>
 std::size_t remove_above(Sim& sim, int axis, double height) {
   const auto& p = sim.particles();
@@ -84,6 +90,16 @@ double surface_height(const Sim& sim, int axis, std::size_t top_count = 20) {
   const auto& p = sim.particles();
   std::vector<double> tops(p.owned());
   for (std::size_t i = 0; i < p.owned(); ++i) tops[i] = p.x[i][axis] + p.radius[i];
+  if constexpr (Sim::ParallelPolicy::distributed) {
+    // Each rank's highest top_count, gathered (collective): the same tops on every rank, in
+    // the same order as one process would sum them (descending).
+    if (sim.parallel_engine().decomposition) {
+      const std::size_t k = std::min(top_count, tops.size());
+      std::partial_sort(tops.begin(), tops.begin() + static_cast<std::ptrdiff_t>(k), tops.end(), std::greater<>());
+      tops.resize(k);
+      tops = sim.parallel_engine().all_gather(tops);
+    }
+  }
   if (tops.empty()) return std::numeric_limits<double>::quiet_NaN();
   top_count = std::min(top_count, tops.size());
   std::partial_sort(tops.begin(), tops.begin() + top_count, tops.end(), std::greater<>());

@@ -18,6 +18,9 @@
 //
 // Set-up: every rank builds the whole scene with the same calls; the first build makes the
 // decomposition from all particles (the same on every rank, no message) and keeps each rank's own.
+// Later every rank still makes the same add_particle calls (the owner of the position keeps the
+// particle) and removes of its own; each rebuild checks the ranks added alike and the count over
+// the ranks (HaloHooks::after_wrap; docs/mpi.md, "Insertion and removal").
 // Included by granule/simulation.hpp at its end: include that header, not this one.
 #include <array>
 #include <chrono>
@@ -107,20 +110,45 @@ struct Simulation<D, Model, Search, Integrator, Parallel>::HaloHooks {
         p.remove_if_not(keep);
       });
       const std::uint64_t kept = E.sum(p.owned());
-      const std::uint64_t most = static_cast<std::uint64_t>(E.max(static_cast<double>(total)));
-      if (kept != total || most != total)
+      std::vector<double> spread{static_cast<double>(total), static_cast<double>(sim.next_id_),
+                                 -static_cast<double>(sim.next_id_)};
+      E.max(spread);
+      const std::uint64_t most = static_cast<std::uint64_t>(spread[0]);
+      if (kept != total || most != total || spread[1] != -spread[2])
         throw InvalidParameter("MpiDomains: the ranks did not set up the same scene (" + std::to_string(total) +
-                               " particles here, " + std::to_string(kept) + " kept over all ranks)");
+                               " particles here, " + std::to_string(kept) + " kept over all ranks" +
+                               (spread[1] != -spread[2] ? ", different numbers of add_particle calls" : "") + ")");
       E.total = total;
+      E.next_id_at_build = sim.next_id_;
+      E.removed_since_build = 0;
       E.imbalance = parallel::Load{E.all_gather({static_cast<double>(p.owned())})}.imbalance();
       return;
     }
-    // Insertion and removal across ranks are not there yet: every rank would add the same
-    // particle (or only its owner remove one), so the count over the ranks would change.
-    if (const std::uint64_t now = E.sum(p.owned()); now != E.total)
-      throw InvalidParameter("MpiDomains: " + std::to_string(now) + " particles over the ranks where the run started "
-                             "with " + std::to_string(E.total) + "; adding or removing particles after the first "
-                             "step is not supported yet (docs/mpi.md)");
+    // Insertion and removal since the last build (docs/mpi.md, "Insertion and removal"): every
+    // rank made the same add_particle calls (the same ids; each kept those whose position it
+    // owns, Simulation::add_particle), and each counted the particles it removed of its own.
+    {
+      const std::uint64_t added = sim.next_id_ - E.next_id_at_build;
+      std::vector<double> spread{static_cast<double>(added), -static_cast<double>(added)};
+      E.max(spread);
+      if (spread[0] != -spread[1])
+        throw InvalidParameter("MpiDomains: the ranks added different numbers of particles since the last rebuild (" +
+                               std::to_string(static_cast<std::uint64_t>(-spread[1])) + " to " +
+                               std::to_string(static_cast<std::uint64_t>(spread[0])) +
+                               "); every rank must make the same add_particle calls (docs/mpi.md)");
+      std::vector<std::uint64_t> counts{E.removed_since_build, p.owned()};
+      E.sum(counts);
+      const std::uint64_t removed = counts[0], now = counts[1], expected = E.total + added - removed;
+      if (now != expected)
+        throw InvalidParameter("MpiDomains: " + std::to_string(now) + " particles over the ranks where " +
+                               std::to_string(expected) + " were expected (" + std::to_string(E.total) +
+                               " at the last rebuild, " + std::to_string(added) + " added, " +
+                               std::to_string(removed) + " removed); add and remove particles only through "
+                               "add_particle and remove_particles, with the same calls on every rank (docs/mpi.md)");
+      E.total = expected;
+      E.next_id_at_build = sim.next_id_;
+      E.removed_since_build = 0;
+    }
     // Load balance: the particle counts' max/mean; above the threshold, new cuts from every
     // particle's position (gathered in rank order, so every rank makes the same cuts).
     {
@@ -371,7 +399,10 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::reduce_wall_forc
 // time-step checks collective.
 template <class D, class Model, class Search, class Integrator, class Parallel>
 inline void Simulation<D, Model, Search, Integrator, Parallel>::start_distributed() {
-  if (!list_valid_) {
+  // (Decided together: a rank whose scene script added or removed particles rebuilds, so all
+  // do; a rank that made no call while others did is then found by the rebuild's checks
+  // instead of waiting in a different collective.)
+  if (on_any_rank(!list_valid_)) {
     initialise();
   } else if (!initialised_) {
     collective([&] {

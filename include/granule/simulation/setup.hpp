@@ -43,6 +43,15 @@ inline std::uint64_t Simulation<D, Model, Search, Integrator, Parallel>::add_par
   particles_.clear_ghosts();
   const double m = materials_[material].density * D::volume(radius, config_.thickness);
   const std::uint64_t id = next_id_++;
+  if constexpr (Parallel::distributed) {
+    // After the first build every rank makes this call (the same scene script) and only the
+    // rank whose region holds x keeps the particle; the next rebuild checks that the ranks
+    // added alike (simulation/distributed.hpp, docs/mpi.md).
+    if (dist_.decomposition && dist_.decomposition->owner(x) != dist_.rank()) {
+      list_valid_ = false;
+      return id;
+    }
+  }
   const std::size_t slot = particles_.add(x, v, radius, m, material, group, id);
   particles_.omega[slot] = omega;
   apply_group_motion(slot);
@@ -125,6 +134,14 @@ inline std::size_t Simulation<D, Model, Search, Integrator, Parallel>::remove_pa
   if (removed > 0) {
     records_.clear();
     records_step_ = std::numeric_limits<std::uint64_t>::max();
+  }
+  if constexpr (Parallel::distributed) {
+    // After the first build each rank removes of its own particles: counted for the next
+    // rebuild's check, and the count over the ranks returned (collective).
+    if (dist_.decomposition) {
+      dist_.removed_since_build += removed;
+      return static_cast<std::size_t>(dist_.sum(static_cast<std::uint64_t>(removed)));
+    }
   }
   return removed;
 }
