@@ -13,7 +13,8 @@ Per rank and step (n = N/P owned particles, g remote ghosts, m neighbour message
   refresh    m alpha + 72 g / beta + t_g g    x, v, omega (9 doubles) per ghost; t_g: pack, copy,
                                       unpack and wait per ghost on this machine (measured, two
                                       ranks bound to cores)
-  collective 3 alpha log2 P + 8 n_w P / beta  the rebuild verdict (allreduce) and the wall forces
+  collective 4 alpha log2 P + 8 n_w P / beta  two allreduces (whether any rank changed its
+                                      particles; the rebuild verdict) and the wall forces
                                       gathered on rank 0 and broadcast (n_w doubles per rank)
   rebuild    (t_mig + t_halo) n / n_2 / K + 2 (alpha log2 P + 2 P log2 P / beta) / K
                                       migration and halo build measured on two ranks (n_2
@@ -78,7 +79,7 @@ def predict(N, L, periodic, r, phi, w, P, c, alpha, beta, K, n_w):
     n = N / P
     t_comp = c['c1'] * n * (1.0 + c['o']) + 0.5 * c['c1'] * ghosts
     t_ref = messages * alpha + 72.0 * ghosts / beta + c['t_g'] * ghosts
-    t_coll = 3.0 * alpha * math.log2(P) + 8.0 * n_w * P / beta
+    t_coll = 4.0 * alpha * math.log2(P) + 8.0 * n_w * P / beta
     t_reb = (c['t_rebuild'] * n / c['n2'] + 2.0 * (alpha * math.log2(P) + 2.0 * P * math.log2(P) / beta)) / K
     t = t_comp + t_ref + t_coll + t_reb
     return dict(grid='x'.join(map(str, g)), n=n, ghosts=ghosts, messages=messages, t=t,
