@@ -18,6 +18,18 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::start_if_needed(
   }
 }
 
+namespace simulation_parts {
+// Whether the W particles from `motion` on are all free (Motion::Free is 0): one load of their
+// modes instead of W tests (the 2D passes' blocks below).
+template <std::size_t W>
+inline bool all_free(const Motion* motion) {
+  std::uint64_t modes = 0;
+  static_assert(W <= sizeof(modes) && sizeof(Motion) == 1);
+  std::memcpy(&modes, motion, W);
+  return modes == 0;
+}
+}  // namespace simulation_parts
+
 // Both passes read and write the particle arrays through raw pointers copied into the loop's
 // lambda, and each loop runs a local copy of that lambda: through the vectors (or through
 // pointers whose address a parallel region had seen) GCC reloaded every array's data pointer
@@ -81,10 +93,7 @@ Simulation<D, Model, Search, Integrator, Parallel>::kick_and_drift(double dt) {
   const Lane g([&](auto l) { return gravity[l % 2]; });
   const auto block = [=](std::size_t b, Lane& worst) GRANULE_ALWAYS_INLINE -> bool {
     if constexpr (blocks) {
-      std::uint64_t modes = 0;  // (Motion::Free is 0)
-      static_assert(W <= sizeof(modes) && sizeof(Motion) == 1);
-      std::memcpy(&modes, motion + b, W);
-      if (modes != 0) return false;
+      if (!simulation_parts::all_free<W>(motion + b)) return false;
       using namespace vec2_lanes;
       constexpr auto aligned = stdx::element_aligned;
       double* const xb = x[b].data();
@@ -216,10 +225,7 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::second_kick(doub
   constexpr std::size_t W = lane_width;
   const auto block = [=](std::size_t b) GRANULE_ALWAYS_INLINE -> bool {
     if constexpr (blocks) {
-      std::uint64_t modes = 0;  // (Motion::Free is 0)
-      static_assert(W <= sizeof(modes) && sizeof(Motion) == 1);
-      std::memcpy(&modes, motion + b, W);
-      if (modes != 0) return false;
+      if (!simulation_parts::all_free<W>(motion + b)) return false;
       using namespace vec2_lanes;
       constexpr auto aligned = stdx::element_aligned;
       const double* const xb = x[b].data();
