@@ -117,7 +117,6 @@ struct MpiDomains {
       return out != 0;
     }
     double max(double x) const { return context().max(x); }
-    double min(double x) const { return context().min(x); }
     std::uint64_t sum(std::uint64_t x) const {
       std::uint64_t out = 0;
       MPI_Allreduce(&x, &out, 1, MPI_UINT64_T, MPI_SUM, comm());
