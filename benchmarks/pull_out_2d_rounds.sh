@@ -2,8 +2,11 @@
 # The 2D path on paper 002's pull-out bed (1600 disks): the packed pair loop against the scalar
 # one, and optionally against the engine of an older commit, in alternating rounds on one core
 # (the host's speed swings; docs/performance.md "Machines and method"). The scalar loop is the
-# engine's 2D path before packing (its end state is bitwise that of commit 395a523), so the
-# ratio is the speed-up of the 2D path per core.
+# engine's 2D path one contact at a time (its end state was bitwise that of commit 395a523, the
+# engine before 2D packing, until the 2D laws became one number along the tangent on
+# 2026-12-07); BEFORE=3e22e0b~1 times 395a523 itself, so that ratio is the speed-up of the 2D
+# path per core. The three runs follow different trajectories (rounding), and the bed's contact
+# count swings with them (0.25-1.46 contacts per disk at the end of the runs): compare rounds.
 #   benchmarks/pull_out_2d_rounds.sh [BUILD_DIR] [ROUNDS] [BEFORE]   (defaults: build-bench, 5, none)
 # Builds bench_scene_pull_out_2d with -march=native if needed, prepares the bed once in
 # out/bench/pull_out_2d.ckpt, then prints one line per run and the best of each loop.

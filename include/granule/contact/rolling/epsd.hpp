@@ -84,37 +84,37 @@ struct EpsdRolling {
     const R m_max = p.mu_r * g.r_eff * abs(nr.fn);
     // Increment, then the limit: fully mobilised, the spring is held at the limit and there is
     // no damping (001 eq. A15).
-    R m2;
-    if constexpr (D::dim == 3) {
+    if constexpr (D::dim == 2) {
+      // 2D: M is one number, and holding it at the limit is a clamp to [-M_max, M_max] (the 3D
+      // scaling by M_max / |M|, the same to rounding, without its division).
+      s.m_roll -= kr * g.dt * g.omega_rel;
+      const auto mobilised = abs(s.m_roll) >= m_max;
+      s.m_roll = select(s.m_roll > m_max, m_max, select(s.m_roll < -m_max, R(-m_max), s.m_roll));
+      AngVec m = s.m_roll;
+      where_assign(!mobilised, m, [&]() -> AngVec { return m - damping(p, kr, g.i_roll) * g.omega_rel_damp; });
+      return m;
+    } else {
       rotate_history(s.m_roll, g);
       const R w_n = g.omega_rel.dot(g.n);
       s.m_roll -= (kr * g.dt) * (g.omega_rel - w_n * g.n);
       s.m_twist -= kr * g.dt * w_n;
-      m2 = s.m_roll.squaredNorm() + s.m_twist * s.m_twist;
-    } else {
-      s.m_roll -= kr * g.dt * g.omega_rel;
-      m2 = s.m_roll * s.m_roll;
-    }
-    const auto mobilised = m2 >= m_max * m_max;
-    R scale = 1.0;
-    where_assign(mobilised, scale, [&]() -> R {
-      R limited = 0.0;
-      where_assign(m2 > 0.0, limited, [&]() -> R { return m_max / sqrt(m2); });
-      return limited;
-    });
-    s.m_roll = s.m_roll * scale;
-    AngVec m;
-    if constexpr (D::dim == 3) {
+      const R m2 = s.m_roll.squaredNorm() + s.m_twist * s.m_twist;
+      const auto mobilised = m2 >= m_max * m_max;
+      R scale = 1.0;
+      where_assign(mobilised, scale, [&]() -> R {
+        R limited = 0.0;
+        where_assign(m2 > 0.0, limited, [&]() -> R { return m_max / sqrt(m2); });
+        return limited;
+      });
+      s.m_roll = s.m_roll * scale;
       s.m_twist = s.m_twist * scale;
-      m = s.m_roll + s.m_twist * g.n;
-    } else {
-      m = s.m_roll;
+      AngVec m = s.m_roll + s.m_twist * g.n;
+      where_assign(!mobilised, m, [&]() -> AngVec {
+        const R cr = damping(p, kr, g.i_roll);
+        return m - cr * g.omega_rel_damp;
+      });
+      return m;
     }
-    where_assign(!mobilised, m, [&]() -> AngVec {
-      const R cr = damping(p, kr, g.i_roll);
-      return m - cr * g.omega_rel_damp;
-    });
-    return m;
   }
   /// Energy stored in the rolling spring, |M_k|^2 / (2 k_r) [J].
   template <class D>

@@ -55,8 +55,8 @@ inline void rotate_history(typename D::Vec& x, const ContactGeometry<D>& g) {
   using std::sqrt;
   using R = typename D::Real;
   const R before2 = x.squaredNorm();
-  const R xn = x.dot(g.n);
   if constexpr (D::dim == 3) {
+    const R xn = x.dot(g.n);
     const R t2 = g.twist * g.twist;
     const R tan_twist = g.twist * (1.0 + t2 * (1.0 / 3.0 + t2 * (2.0 / 15.0 + t2 * (17.0 / 315.0))));
     const R after2 = (before2 - xn * xn) * (1.0 + tan_twist * tan_twist);
@@ -64,9 +64,16 @@ inline void rotate_history(typename D::Vec& x, const ContactGeometry<D>& g) {
     where_assign(after2 > 0.0, scale, [&]() -> R { return sqrt(before2 / after2); });
     x = scale * (x - xn * g.n + tan_twist * g.n.cross(x));
   } else {
-    x -= xn * g.n;
-    const R after2 = x.squaredNorm();
-    where_assign(after2 > 0.0, x, [&]() -> typename D::Vec { return x * sqrt(before2 / after2); });
+    // 2D: the tangent line is spanned by t = z x n = (-n_y, n_x), so the projection of x is
+    // (x . t) t = (n x x) t, and with its length restored it is sign(n x x) |x| t: one square
+    // root on the chain and no division. (Until 2026-12-07 this projected, then scaled by
+    // sqrt(|x|^2 / |P x|^2), as 3D does with theta = 0: the same vector to rounding, but the
+    // longest dependency chain of the packed 2D law.) A history along n (n x x = 0) has no
+    // tangential part and becomes zero.
+    const R xt = D::cross(g.n, x);
+    const R len = sqrt(before2);
+    const R s = select(xt > 0.0, len, select(xt < 0.0, R(-len), R(0.0)));
+    x = D::cross(s, g.n);
   }
 }
 

@@ -8,6 +8,7 @@
 // R: the force follows the contact frame -- projected onto the new tangent plane with its length
 // kept, then turned about n by the mean twist angle of the step (history.hpp).
 // There is no tangential dashpot: dissipation comes from sliding and from the normal law.
+// 2D evaluates the same law as one number along the tangent (eval).
 #include <cmath>
 
 #include <string>
@@ -38,13 +39,30 @@ struct IncrementalCoulombTangential {
     using std::abs;
     using std::sqrt;
     using R = typename D::Real;
-    using V = typename D::Vec;
-    rotate_history<D>(s.ft, g);
-    s.ft -= p.ratio * nr.kn * g.dt * g.vt;
-    const R limit = p.mu_s * abs(nr.fn);
-    const R f2 = s.ft.squaredNorm();
-    blend_assign(f2 > limit * limit, s.ft, [&]() -> V { return s.ft * R(limit / sqrt(f2)); });
-    return s.ft;
+    if constexpr (D::dim == 2) {
+      // 2D: the tangent line is one-dimensional, spanned by t = z x n = (-n_y, n_x), and so are
+      // the history after its rotation (sign(F_t . t) |F_t| t, history.hpp), the increment
+      // (v_t = (v_t . t) t) and the limit. The law is then one number f along t: the rotated
+      // length, the increment, and a clamp to [-mu |F_n|, mu |F_n|] -- one square root and no
+      // division, where the vector form needs two of each on its chain (measured: the packed
+      // 2D law's longest chain, bench_scene_pull_out_2d). The same force to rounding.
+      const R ft_t = D::cross(g.n, s.ft);  // F_t . t
+      const R len = sqrt(s.ft.squaredNorm());
+      R f = select(ft_t > 0.0, len, select(ft_t < 0.0, R(-len), R(0.0)));
+      f -= p.ratio * nr.kn * g.dt * D::cross(g.n, g.vt);
+      const R limit = p.mu_s * abs(nr.fn);
+      f = select(f > limit, limit, select(f < -limit, R(-limit), f));
+      s.ft = D::cross(f, g.n);  // f t
+      return s.ft;
+    } else {
+      using V = typename D::Vec;
+      rotate_history<D>(s.ft, g);
+      s.ft -= p.ratio * nr.kn * g.dt * g.vt;
+      const R limit = p.mu_s * abs(nr.fn);
+      const R f2 = s.ft.squaredNorm();
+      blend_assign(f2 > limit * limit, s.ft, [&]() -> V { return s.ft * R(limit / sqrt(f2)); });
+      return s.ft;
+    }
   }
   /// Energy stored in the tangential spring, |F_t|^2 / (2 k_t) [J].
   template <class D>
