@@ -349,10 +349,30 @@ TEST_CASE("The 2D touch scan lists the touching entries as the definition does",
     INFO("rows " << r0 << " to " << r1);
     std::vector<std::uint32_t> t1(nbr.size() + 8), rows1(nbr.size() + 8), t2(nbr.size() + 8), rows2(nbr.size() + 8);
     std::vector<std::pair<std::uint32_t, bool>> c1, c2, expected_calls;
-    const std::size_t n1 = contact::scan_rows_scalar<2>(in, r0, r1, t1.data(), rows1.data(),
+    // With the separation output (the engine's 2D form) and without it (3D).
+    std::vector<double> s1x(nbr.size() + 8), s1y(nbr.size() + 8), s2x(nbr.size() + 8), s2y(nbr.size() + 8);
+    contact::TouchScanInput in1 = in, in2 = in;
+    in1.separation[0] = s1x.data(), in1.separation[1] = s1y.data();
+    in2.separation[0] = s2x.data(), in2.separation[1] = s2y.data();
+    const std::size_t n1 = contact::scan_rows_scalar<2>(in1, r0, r1, t1.data(), rows1.data(),
                                                         [&](std::uint32_t e, bool t) { c1.emplace_back(e, t); });
-    const std::size_t n2 = contact::scan_rows<2>(in, r0, r1, t2.data(), rows2.data(),
+    const std::size_t n2 = contact::scan_rows<2>(in2, r0, r1, t2.data(), rows2.data(),
                                                  [&](std::uint32_t e, bool t) { c2.emplace_back(e, t); });
+    std::vector<std::uint32_t> t3(nbr.size() + 8), rows3(nbr.size() + 8);
+    const std::size_t n3 = contact::scan_rows<2>(in, r0, r1, t3.data(), rows3.data(), [](std::uint32_t, bool) {});
+    CHECK(n3 == n2);
+    CHECK(std::equal(t3.begin(), t3.begin() + static_cast<std::ptrdiff_t>(n3), t2.begin()));
+    // x_i - x_j of each listed pair, exactly (the geometry reads it instead of the positions).
+    for (std::size_t k = 0; k < n1; ++k) {
+      const packed2d_test::Vec2 d = x[rows1[k]] - x[nbr[t1[k]]];
+      REQUIRE(s1x[k] == d.x());
+      REQUIRE(s1y[k] == d.y());
+    }
+    for (std::size_t k = 0; k < n2; ++k) {
+      const packed2d_test::Vec2 d = x[rows2[k]] - x[nbr[t2[k]]];
+      REQUIRE(s2x[k] == d.x());
+      REQUIRE(s2y[k] == d.y());
+    }
     t1.resize(n1), rows1.resize(n1), t2.resize(n2), rows2.resize(n2);
     std::vector<std::uint32_t> expected, expected_rows;
     for (std::uint32_t i = r0; i < r1; ++i)

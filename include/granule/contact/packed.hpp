@@ -121,6 +121,9 @@ struct PairChunk {
   std::uint32_t i[Capacity], j[Capacity];
   std::uint32_t history[Capacity];  ///< history slot of each contact (PairList::slot)
   std::uint32_t entry[Capacity];    ///< list entry of each contact (filled for the per-pair constants)
+  /// x_i - x_j of the chunk's contacts by axis (2D: from the touch scan, TouchScanInput::
+  /// separation; the lanes past `count` hold finite leftovers, dropped), or null: gathered.
+  const double* separation[Dim] = {};
   // Outputs of pass 2, rows of out: force on i (Dim rows from fx), torques on i and j (3 rows
   // each in 3D, from tix and tjx; one row each in 2D, the z component).
   static constexpr std::size_t ang = Dim == 3 ? 3 : 1;
@@ -194,7 +197,16 @@ struct PairChunk {
         return gather_lanes<By>(p.omega, idx);
       }
     };
-    const V d = vec(p.x, ik) - vec(p.x, jk);
+    V d;
+    if constexpr (Dim == 2) {
+      if (separation[0] != nullptr) {
+        d = {Lane(separation[0] + k, stdx::element_aligned), Lane(separation[1] + k, stdx::element_aligned)};
+      } else {
+        d = vec(p.x, ik) - vec(p.x, jk);
+      }
+    } else {
+      d = vec(p.x, ik) - vec(p.x, jk);
+    }
     const Lane r_i = gather_lanes<By>(p.radius, ik), r_j = gather_lanes<By>(p.radius, jk);
     const Lane rs = r_i + r_j;
     const Lane dist = sqrt(d.squaredNorm());

@@ -37,6 +37,11 @@ struct TouchScanInput {
   /// the radii itself. (The 2D engine keeps it with the per-pair constants: one load per block
   /// instead of 16 scattered ones.)
   const double* reach = nullptr;
+  /// Output, if set (2D engine): x_i - x_j of each touching entry, axis by axis (separation[k]
+  /// for axis k, Dim arrays with the room of `touching`), at the entry's place in `touching`. The
+  /// packed geometry reads it instead of gathering both positions again; the same subtraction,
+  /// so the same bits.
+  double* separation[3] = {nullptr, nullptr, nullptr};
 };
 
 /// One entry at a time: lists the touching entries of rows [r0, r1) in `touching` (entry
@@ -67,6 +72,11 @@ inline std::size_t scan_rows_scalar(const TouchScanInput& in, std::uint32_t r0, 
       // Every entry is written at the count, which only a touching one advances.
       touching[nt] = e;
       rows[nt] = i;
+      if (in.separation[0] != nullptr) {
+        in.separation[0][nt] = dx;
+        in.separation[1][nt] = dy;
+        if constexpr (Dim == 3) in.separation[2][nt] = xi[2] - xj[2];
+      }
       nt += touch;
     }
   }
@@ -96,6 +106,10 @@ inline unsigned equal_bits(const std::uint32_t* p, std::uint32_t count, std::uin
 }
 inline void store_compressed(std::uint32_t* out, IndexPack v, unsigned bits) {
   _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_maskz_compress_epi32(static_cast<__mmask8>(bits), v));
+}
+// (Compress in a register, then a full store: the memory form is slow on Zen 4.)
+inline void store_compressed(double* out, const Lane& v, unsigned bits) {
+  _mm512_storeu_pd(out, _mm512_maskz_compress_pd(static_cast<__mmask8>(bits), static_cast<__m512d>(v)));
 }
 #elif defined(__AVX2__)
 inline constexpr bool kStreamScan = lane_width == 4;
@@ -133,6 +147,23 @@ inline void store_compressed(std::uint32_t* out, IndexPack v, unsigned bits) {
   const __m128i order = _mm_load_si128(reinterpret_cast<const __m128i*>(kCompressOrder.lane[bits]));
   _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_castps_si128(_mm_permutevar_ps(_mm_castsi128_ps(v), order)));
 }
+// Doubles: the same order as pairs of 32-bit lanes (2l, 2l + 1) (a table of 512 B).
+struct CompressOrder64 {
+  alignas(32) std::int32_t lane[16][8];
+};
+inline constexpr CompressOrder64 kCompressOrder64 = [] {
+  CompressOrder64 t{};
+  for (unsigned m = 0; m < 16; ++m)
+    for (unsigned k = 0; k < 4; ++k) {
+      t.lane[m][2 * k] = 2 * kCompressOrder.lane[m][k];
+      t.lane[m][2 * k + 1] = 2 * kCompressOrder.lane[m][k] + 1;
+    }
+  return t;
+}();
+inline void store_compressed(double* out, const Lane& v, unsigned bits) {
+  const __m256i order = _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompressOrder64.lane[bits]));
+  _mm256_storeu_pd(out, _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(static_cast<__m256d>(v)), order)));
+}
 #else
 inline constexpr bool kStreamScan = false;
 #endif
@@ -141,8 +172,8 @@ inline constexpr bool kStreamScan = false;
 
 inline constexpr bool kPackedTouchScan = detail::kStreamScan;
 
-/// As scan_rows_scalar, W entries at a time where the machine has AVX2 or AVX-512. `touching`
-/// and `rows` need room for all entries of the rows plus 8.
+/// As scan_rows_scalar, W entries at a time where the machine has AVX2 or AVX-512. `touching`,
+/// `rows` and the separation arrays need room for all entries of the rows plus 8.
 template <int Dim = 3, class MoveSlot>
 inline std::size_t scan_rows(const TouchScanInput& in, std::uint32_t r0, std::uint32_t r1,
                              std::uint32_t* touching, std::uint32_t* rows, MoveSlot&& move_slot) {
@@ -197,14 +228,19 @@ inline std::size_t scan_rows(const TouchScanInput& in, std::uint32_t r0, std::ui
                                                 gather_lanes<GatherBy::registers>(in.radius, jp);
       const detail::IndexPack iv = detail::load_indices(ip);
       const Lane dx = xi[0] - xj[0], dy = xi[1] - xj[1];
-      Lane d2;
+      Lane d2, dz = 0.0;
       if constexpr (Dim == 3) {
-        const Lane dz = xi[2] - xj[2];
+        dz = xi[2] - xj[2];
         d2 = dx * dx + (dy * dy + dz * dz);
       } else {
         d2 = dx * dx + dy * dy;
       }
       const unsigned touch = detail::less_bits(d2, rs * rs) & valid;
+      if (in.separation[0] != nullptr) {
+        detail::store_compressed(in.separation[0] + nt, dx, touch);
+        detail::store_compressed(in.separation[1] + nt, dy, touch);
+        if constexpr (Dim == 3) detail::store_compressed(in.separation[2] + nt, dz, touch);
+      }
       if (in.slot != nullptr) {
         const unsigned none = detail::equal_bits(in.slot + e, count, in.no_slot);
         // A lane's slot moves where touch == none (touching without one, or apart with one).

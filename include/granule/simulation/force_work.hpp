@@ -52,6 +52,7 @@ struct LayerAccumulator {
 // list entries that touch and the row of each.
 struct PairWork {
   std::vector<std::uint32_t> entries, rows;
+  std::vector<double> separation[2];  ///< 2D: x_i - x_j of the touching pairs (TouchScanInput)
 };
 
 // Wall contacts queued for the packed law (process_layer_packed): W at a time, one parameter

@@ -74,7 +74,10 @@ inline std::size_t Simulation<D, Model, Search, Integrator, Parallel>::memory_by
   const std::size_t per = 5 * sizeof(Vec) + 2 * sizeof(AngVec) + 4 * sizeof(double) + 2 * 4 + 8 + 1 +
                           sizeof(typename ParticleStore<D>::Image);
   std::size_t work = v_damp_.capacity() * sizeof(Vec) + omega_damp_.capacity() * sizeof(AngVec);
-  for (const auto& w : pair_work_) work += (w.entries.capacity() + w.rows.capacity()) * sizeof(std::uint32_t);
+  for (const auto& w : pair_work_) {
+    work += (w.entries.capacity() + w.rows.capacity()) * sizeof(std::uint32_t);
+    work += (w.separation[0].capacity() + w.separation[1].capacity()) * sizeof(double);
+  }
   work += pair_constants_.capacity() * sizeof(contact::PairConstants) + pair_reach_.capacity() * sizeof(double);
   return p.x.capacity() * per + list_.memory_bytes() + work;
 }

@@ -302,9 +302,16 @@ GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator, Parallel>::
     work.rows.resize(entries + 8);
     std::uint32_t* const sorted = work.entries.data();
     std::uint32_t* const rows = work.rows.data();
-    const contact::TouchScanInput scan{scalars(p.x), p.radius.data(), list_.row_begin.data(),
-                                       list_.nbr.data(), kHasState ? list_.slot.data() : nullptr, List::kNone,
-                                       kPairConstants ? pair_reach_.data() : nullptr};
+    contact::TouchScanInput scan{scalars(p.x), p.radius.data(), list_.row_begin.data(),
+                                 list_.nbr.data(), kHasState ? list_.slot.data() : nullptr, List::kNone,
+                                 kPairConstants ? pair_reach_.data() : nullptr};
+    // 2D: the scan hands the touching pairs' x_i - x_j to the geometry (one gather of both
+    // positions per pair instead of two; 3D was left as measured).
+    if constexpr (D::dim == 2) {
+      for (auto& a : work.separation) a.resize(entries + 8);
+      scan.separation[0] = work.separation[0].data();
+      scan.separation[1] = work.separation[1].data();
+    }
     // (Slots are taken and given back in entry order, so they do not depend on threads.)
     const std::size_t nt = contact::scan_rows<D::dim>(scan, static_cast<std::uint32_t>(r0), static_cast<std::uint32_t>(r1),
                                               sorted, rows, [&](std::uint32_t e, bool touch) {
@@ -318,6 +325,10 @@ GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator, Parallel>::
                                               });
     Chunk chunk;
     for (std::size_t k = 0; k < nt;) {
+      if constexpr (D::dim == 2) {
+        chunk.separation[0] = work.separation[0].data() + k;
+        chunk.separation[1] = work.separation[1].data() + k;
+      }
       k = fill_chunk(chunk, sorted, rows, k, nt);
       evaluate_chunk(chunk, acc, l);
     }
