@@ -425,9 +425,10 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::evaluate_chunk(C
     chunk.store_force(k, cf);
   };
   // 2D: two packs at a time, both geometries before both laws. The law is one chain of
-  // dependent steps through the history (its rotation and the sliding limit: two square roots
-  // and two divisions), so the two laws' chains, close together in the instruction stream,
-  // overlap in the core. The same operations per pack: the same bits.
+  // dependent steps through the history (the rotation's square root, the increment, the
+  // Coulomb clamp), so the two laws' chains, close together in the instruction stream, overlap
+  // in the core. The same operations per pack: the same bits. (Zen 4, 2026-12-07: one pack at a
+  // time 29.1-30.8 ns against 26.7, three at a time 27.7-28.7 against 25.8-27.4.)
   std::size_t k = 0;
   if constexpr (D::dim == 2) {
     contact::ContactGeometry<LD> g0, g1;
