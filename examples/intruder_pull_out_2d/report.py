@@ -310,8 +310,108 @@ def table_dtcheck(studies):
     return "\n".join(rows) + "\n"
 
 
-def blocks(studies):
+MODES = ("quick", "medium")
+INTRUDER_LENGTH = 0.010  # L [m]
+
+
+def load_modes():
+    """The summaries of the quick and medium runs (run_study.sh modes), by mode; None if absent."""
+    out = {}
+    for m in MODES:
+        f = os.path.join(RESULTS, "modes", m, "summary.csv")
+        out[m] = read_summary(f) if os.path.exists(f) else None
+    return out
+
+
+def sci(v, digits=2):
+    """2.0·10⁴ for 19890 (digits significant)."""
+    if v == 0 or not math.isfinite(v):
+        return fmt(v)
+    e = math.floor(math.log10(abs(v)))
+    if -2 <= e <= 3:
+        return fmt(v, digits)
+    sup = str(e).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
+    return f"{v / 10 ** e:.{digits - 1}f}·10{sup}"
+
+
+def seconds(v):
+    return f"{v:.1f} s" if v < 60 else duration(v)
+
+
+def table_modes(modes):
+    """The quick and medium modes beside 002: every figure from their summary.csv."""
+    runs = [(m, modes.get(m)) for m in MODES]
+    if not any(s for _, s in runs):
+        return "_Not run yet (`run_study.sh modes`)._\n"
+    lines = []
+    for m, s in runs:
+        if s is None:
+            lines.append(f"{m}: not run yet (`run_study.sh modes`).")
+            continue
+        lines.append(f"{m}: commit {s['commit']}, {s['date']}, {s['machine']}; fill {seconds(s['fill_wall_time'])}, "
+                     f"pull {seconds(s['pull_wall_time'])} of wall time (of which {seconds(s['analysis_wall_time'])} "
+                     f"coarse-graining), {fmt(s['ns_per_particle_step'])} ns per particle-step.")
+    head = "`OMP_NUM_THREADS=1 intruder_pull_out_2d [--medium]`, seed 1 (`run_study.sh modes`). " + " ".join(lines)
+
+    def col(fn):
+        return [fn(s) if s else "–" for _, s in runs]
+
+    def hmm(v):
+        return mm(v, 3)
+
+    def quiet(s):
+        half_gap = 0.5 * (s["cell_width"] - INTRUDER_LENGTH)
+        return (f"{mm(s['quiet_thickness_q2'])} ({mm(s['quiet_thickness_q1'])}, {mm(s['quiet_thickness_q5'])}); "
+                f"(W − L)/2 = {mm(half_gap)}")
+
+    def maps(s):
+        out = []
+        for k in range(1, 10):
+            if f"map{k}_height" not in s:
+                break
+            a = s[f"map{k}_cone_angle"]
+            out.append(f"{f'{a:.0f}°' if isinstance(a, float) and math.isfinite(a) else '–'} at {hmm(s[f'map{k}_height'])}")
+        return ", ".join(out) if out else "–"
+
+    rows = [
+        ("packing fraction (interior / whole bed)", "0.82 ± 0.02",
+         col(lambda s: f"{s['phi_interior']:.3f} / {s['phi_whole']:.3f}")),
+        ("mean surface", "150 mm", col(lambda s: hmm(s["mean_surface"]))),
+        ("drag peak, height (÷ M g L/W)", "a high peak at the start",
+         col(lambda s: f"{fmt(s['peak'])} N at {hmm(s['peak_height'])} ({fmt(s['peak_over_column'], 2)})")),
+        ("drop → reload (d̄/2 running mean)", "the peak disappears, then a new loading",
+         col(lambda s: f"{fmt(s['smoothed_peak'])} N at {hmm(s['smoothed_peak_height'])} → {fmt(s['drop'])} N at "
+                       f"{hmm(s['drop_height'])} → {fmt(s['reload'])} N at {hmm(s['reload_height'])}")),
+        ("drag by thirds: mean (std)", "relaxation, fluctuations shrinking upwards",
+         col(lambda s: ", ".join(f"{fmt(s[f'third{k}_drag_mean'], 2)} ({fmt(s[f'third{k}_drag_std'], 2)})"
+                                 for k in (1, 2, 3)) + " N")),
+        ("quiet top layer, q = 2 % (1 %, 5 %)", "45 mm = (W − L)/2", col(quiet)),
+        ("d̄/2 band: R (95 % point)", "peaks spaced ≈ d̄/2",
+         col(lambda s: f"{fmt(s['half_d_ratio'])} ({fmt(s['half_d_critical'])}): "
+                       + ("stands out" if s["half_d_stands_out"] else "does not stand out"))),
+        ("spacing of the drag's maxima", "≈ d̄/2",
+         col(lambda s: f"{hmm(s['event_spacing'])} ({fmt(s['event_spacing'] / D, 2)} d̄)")),
+        ("largest power per octave", "—", col(lambda s: f"λ = {hmm(s['dominant_wavelength'])}")),
+        ("μ* bulk / walls: below H1, above H1, end", "maximum low in the bed; → 0.24 above H1",
+         col(lambda s: ", ".join(f"{s[f'mu_bulk_{w}']:.3f} / {s[f'mu_wall_{w}']:.3f}"
+                                 for w in ("below_h1", "above_h1", "end")))),
+        ("bulk contacts at the Coulomb threshold", "< 20 %", col(lambda s: f"{100 * s['sliding_bulk']:.1f} %")),
+        ("cone's edges at the drag maxima: median (quartiles)", "60°",
+         col(lambda s: f"{s['cone_angle']:.0f}° ({s['cone_angle_p25']:.0f}–{s['cone_angle_p75']:.0f}°)")),
+        ("cone on the maps (loading peaks)", "60°", col(maps)),
+        ("wall bands mobile, below / above H1", "mobility lost near the walls above H1",
+         col(lambda s: f"{fmt(s['wall_mobility_below_h1'], 2)} / {fmt(s['wall_mobility_above_h1'], 2)}")),
+    ]
+    names = [f"{m} (κ = {sci(s['kappa'])}, I = {sci(s['inertial_number'])})" if s else m for m, s in runs]
+    out = [head, "", "| quantity | 002 | " + " | ".join(names) + " |", "|---|---|" + "---|" * len(runs)]
+    for name, paper, vals in rows:
+        out.append(f"| {name} | {paper} | " + " | ".join(vals) + " |")
+    return "\n".join(out) + "\n"
+
+
+def blocks(studies, modes=None):
     return {
+        "modes": table_modes(modes or {}),
         "paper-vs-ours": table_paper(studies),
         "convergence": table_convergence(studies.get("convergence"), "convergence"),
         "converged": table_converged(studies.get("convergence")),
@@ -441,7 +541,7 @@ def main(argv):
     RATE_NS = measured_rate(studies)
     with open(README, encoding="utf-8") as f:
         text = f.read()
-    new = render(text, blocks(studies))
+    new = render(text, blocks(studies, load_modes()))
     if check:
         if new != text:
             print(f"report.py --check: {README} differs from the results in {RESULTS}; "

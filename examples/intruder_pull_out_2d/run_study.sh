@@ -12,6 +12,9 @@
 # out/intruder_pull_out_2d_study/beds/ (a bed serves every speed of its stiffness). Progress with
 # an ETA goes to the log also off a terminal. At the end report.py regenerates README.md's tables
 # and draws the figures into out/intruder_pull_out_2d_study/figures/.
+#   modes        the program's quick and medium modes (one thread, seed 1): their summary.csv
+#                goes to results/modes/<mode>/ for the README's "Measured: quick and medium
+#                modes" table (rerun after a change of the engine's 2D arithmetic: delete them)
 #   examples/intruder_pull_out_2d/run_study.sh [tag ...]     (default: dtcheck convergence)
 # Environment: THREADS (default 1: the engine runs the 1600 disks on one thread; more threads
 # only speed up the coarse-graining), CASES (comma-separated case names of the one tag given:
@@ -39,10 +42,24 @@ if [[ -n "${CASES:-}" && ${#tags[@]} -ne 1 ]]; then
   echo "CASES needs exactly one tag (its cases are names of that tag)" >&2
   exit 2
 fi
+# The quick and medium modes as a user runs them; a mode with a summary is skipped.
+run_modes() {
+  local mode flag
+  for mode in quick medium; do
+    [[ -f "$RES/modes/$mode/summary.csv" ]] && { echo "== modes: $mode done"; continue; }
+    flag=()
+    [[ $mode == medium ]] && flag=(--medium)
+    echo "== modes: $mode" | tee -a "$OUT/modes.log"
+    OMP_NUM_THREADS=1 "$EXE" "${flag[@]}" --out "$OUT/modes/$mode" 2>&1 | tee -a "$OUT/modes.log"
+    mkdir -p "$RES/modes/$mode"
+    cp "$OUT/modes/$mode/summary.csv" "$RES/modes/$mode/summary.csv"
+  done
+}
 for tag in "${tags[@]}"; do
   case "$tag" in
     dtcheck | convergence) run "$tag" ;;
-    *) echo "unknown study tag '$tag' (dtcheck, convergence)" >&2; exit 2 ;;
+    modes) run_modes ;;
+    *) echo "unknown study tag '$tag' (dtcheck, convergence, modes)" >&2; exit 2 ;;
   esac
 done
 /usr/bin/python3 "$HERE/report.py"
