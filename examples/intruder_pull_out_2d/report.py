@@ -328,7 +328,7 @@ def sci(v, digits=2):
     if v == 0 or not math.isfinite(v):
         return fmt(v)
     e = math.floor(math.log10(abs(v)))
-    if -2 <= e <= 3:
+    if -2 <= e < digits:
         return fmt(v, digits)
     sup = str(e).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
     return f"{v / 10 ** e:.{digits - 1}f}·10{sup}"
