@@ -133,4 +133,21 @@ TEMPLATE_TEST_CASE("Sliding particle on a wall starts rolling at v0/(1+k) (Hertz
     CHECK(res.v_final == Approx(v0 / (1.0 + k * r * r / (h * h))).epsilon(2e-4));
     CHECK(res.omega_r_final == Approx(res.v_final).epsilon(1e-3));
   }
+  {
+    // Paper 002's law: incremental regularised Coulomb (2D: one number along the tangent,
+    // docs/physics.md), k_t = k_n / 2; EPSD rolling with mu_r = 0 adds no torque.
+    Material lin = mat;
+    lin.normal_stiffness = 2.0e3;  // [N/m]
+    lin.tangential_stiffness_ratio = 0.5;
+    const double overlap0 = m * g / lin.normal_stiffness;
+    const auto res = slide<D, contact::LinearCoulombRolling>(lin, r, t, v0, g, overlap0, dt, 1.6 * t_roll);
+    INFO("LinearCoulombRolling dim " << D::dim << ": t_roll = " << res.t_roll << " s (theory " << t_roll
+                                     << "), v_final = " << res.v_final << " m/s (theory " << v_final
+                                     << "), omega r = " << res.omega_r_final);
+    CHECK(res.t_roll == Approx(t_roll).epsilon(0.01));
+    CHECK(res.v_final == Approx(v_final).epsilon(0.005));
+    const double h = r - overlap0;
+    CHECK(res.v_final == Approx(v0 / (1.0 + k * r * r / (h * h))).epsilon(2e-4));
+    CHECK(res.omega_r_final == Approx(res.v_final).epsilon(1e-3));
+  }
 }
