@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <type_traits>
 
 #include "contact_test_support.hpp"
 
@@ -119,35 +120,24 @@ TEMPLATE_TEST_CASE("Sliding particle on a wall starts rolling at v0/(1+k) (Hertz
     INFO("v_final with arm r - delta " << v_arm << ", with r - delta/2 " << v_half);
     CHECK(std::abs(res.v_final - v_arm) < 0.1 * std::abs(res.v_final - v_half));
   }
-  {
-    Material lin = mat;
-    lin.normal_stiffness = 2.0e3;  // [N/m]; k_t = 2/7 k_n (default ratio)
-    const double overlap0 = m * g / lin.normal_stiffness;
-    const auto res = slide<D, contact::LinearSpringDashpot>(lin, r, t, v0, g, overlap0, dt, 1.6 * t_roll);
-    INFO("LinearSpringDashpot dim " << D::dim << ": t_roll = " << res.t_roll << " s (theory " << t_roll
-                                    << "), v_final = " << res.v_final << " m/s (theory " << v_final
-                                    << "), omega r = " << res.omega_r_final);
-    CHECK(res.t_roll == Approx(t_roll).epsilon(0.01));
-    CHECK(res.v_final == Approx(v_final).epsilon(0.005));
-    const double h = r - overlap0;
-    CHECK(res.v_final == Approx(v0 / (1.0 + k * r * r / (h * h))).epsilon(2e-4));
-    CHECK(res.omega_r_final == Approx(res.v_final).epsilon(1e-3));
-  }
-  {
-    // Paper 002's law: incremental regularised Coulomb (2D: one number along the tangent,
-    // docs/physics.md), k_t = k_n / 2; EPSD rolling with mu_r = 0 adds no torque.
+  // Linear normal laws (k_n = 2e3 N/m, static overlap m g / k_n): the same predictions.
+  const auto linear = [&](auto model, const char* name, double kt_ratio) {
+    using Model = typename decltype(model)::type;
     Material lin = mat;
     lin.normal_stiffness = 2.0e3;  // [N/m]
-    lin.tangential_stiffness_ratio = 0.5;
+    lin.tangential_stiffness_ratio = kt_ratio;
     const double overlap0 = m * g / lin.normal_stiffness;
-    const auto res = slide<D, contact::LinearCoulombRolling>(lin, r, t, v0, g, overlap0, dt, 1.6 * t_roll);
-    INFO("LinearCoulombRolling dim " << D::dim << ": t_roll = " << res.t_roll << " s (theory " << t_roll
-                                     << "), v_final = " << res.v_final << " m/s (theory " << v_final
-                                     << "), omega r = " << res.omega_r_final);
+    const auto res = slide<D, Model>(lin, r, t, v0, g, overlap0, dt, 1.6 * t_roll);
+    INFO(name << " dim " << D::dim << ": t_roll = " << res.t_roll << " s (theory " << t_roll
+              << "), v_final = " << res.v_final << " m/s (theory " << v_final << "), omega r = " << res.omega_r_final);
     CHECK(res.t_roll == Approx(t_roll).epsilon(0.01));
     CHECK(res.v_final == Approx(v_final).epsilon(0.005));
     const double h = r - overlap0;
     CHECK(res.v_final == Approx(v0 / (1.0 + k * r * r / (h * h))).epsilon(2e-4));
-    CHECK(res.omega_r_final == Approx(res.v_final).epsilon(1e-3));
-  }
+    CHECK(res.omega_r_final == Approx(res.v_final).epsilon(1e-3));  // rolling without slip
+  };
+  linear(std::type_identity<contact::LinearSpringDashpot>{}, "LinearSpringDashpot", 2.0 / 7.0);
+  // Paper 002's law: incremental regularised Coulomb (2D: one number along the tangent,
+  // docs/physics.md), k_t = k_n / 2; EPSD rolling with mu_r = 0 adds no torque.
+  linear(std::type_identity<contact::LinearCoulombRolling>{}, "LinearCoulombRolling", 0.5);
 }
