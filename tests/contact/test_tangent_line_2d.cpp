@@ -105,6 +105,10 @@ TEST_CASE("2D incremental Coulomb: a history along the normal has no tangential 
   const Vec f = IncrementalCoulombTangential::eval<Dim2>(p, g, nr, s);
   CHECK(f.x() == Approx(0.16).margin(1e-16));
   CHECK(f.y() == Approx(-0.12).margin(1e-16));
+  // A NaN history stays NaN (the engine's checks then see the failed run; it must not be
+  // zeroed as "no tangential part").
+  s.ft = Vec(std::nan(""), 0.1);
+  CHECK(std::isnan(IncrementalCoulombTangential::eval<Dim2>(p, g, nr, s).x()));
 }
 
 TEST_CASE("2D EPSD rolling: the clamp equals the rescaling onto the limit", "[contact][2d][rolling]") {

@@ -72,7 +72,7 @@ inline void rotate_history(typename D::Vec& x, const ContactGeometry<D>& g) {
     // tangential part and becomes zero.
     const R xt = D::cross(g.n, x);
     const R len = sqrt(before2);
-    const R s = select(xt > 0.0, len, select(xt < 0.0, R(-len), R(0.0)));
+    const R s = select(xt < 0.0, R(-len), select(xt == 0.0, R(0.0), len));  // (a NaN stays NaN)
     x = D::cross(s, g.n);
   }
 }
