@@ -45,6 +45,19 @@ inline void project_history(Vec& s, const Vec& n, bool keep_length) {
   }
 }
 
+/// 2D: the signed length that x keeps along the tangent t = z x n = (-n_y, n_x) when it is
+/// projected onto that line with its length restored: sign(x . t) |x| (x . t = n x x). One
+/// square root, no division. A vector along n (n x x = 0) has no tangential part: 0. A NaN stays
+/// NaN (the engine's checks must see it).
+template <class D>
+inline typename D::Real tangent_length_2d(const typename D::Vec& x, const typename D::Vec& n) {
+  using std::sqrt;
+  using R = typename D::Real;
+  const R xt = D::cross(n, x);
+  const R len = sqrt(x.squaredNorm());
+  return select(xt < 0.0, R(-len), select(xt == 0.0, R(0.0), len));
+}
+
 /// Projects x onto the tangent plane of g.n, turns it about g.n by the twist angle g.twist of the
 /// step (3D) and restores its previous length.
 /// Written for a short dependency chain: n x P x = n x x, and since n x x is orthogonal to P x with
@@ -54,8 +67,8 @@ template <class D>
 inline void rotate_history(typename D::Vec& x, const ContactGeometry<D>& g) {
   using std::sqrt;
   using R = typename D::Real;
-  const R before2 = x.squaredNorm();
   if constexpr (D::dim == 3) {
+    const R before2 = x.squaredNorm();
     const R xn = x.dot(g.n);
     const R t2 = g.twist * g.twist;
     const R tan_twist = g.twist * (1.0 + t2 * (1.0 / 3.0 + t2 * (2.0 / 15.0 + t2 * (17.0 / 315.0))));
@@ -64,16 +77,11 @@ inline void rotate_history(typename D::Vec& x, const ContactGeometry<D>& g) {
     where_assign(after2 > 0.0, scale, [&]() -> R { return sqrt(before2 / after2); });
     x = scale * (x - xn * g.n + tan_twist * g.n.cross(x));
   } else {
-    // 2D: the tangent line is spanned by t = z x n = (-n_y, n_x), so the projection of x is
-    // (x . t) t = (n x x) t, and with its length restored it is sign(n x x) |x| t: one square
-    // root on the chain and no division. (Until 2026-12-07 this projected, then scaled by
+    // 2D: the projection of x onto the tangent line with its length restored is
+    // tangent_length_2d t. (Until 2026-12-07 this projected, then scaled by
     // sqrt(|x|^2 / |P x|^2), as 3D does with theta = 0: the same vector to rounding, but the
-    // longest dependency chain of the packed 2D law.) A history along n (n x x = 0) has no
-    // tangential part and becomes zero.
-    const R xt = D::cross(g.n, x);
-    const R len = sqrt(before2);
-    const R s = select(xt < 0.0, R(-len), select(xt == 0.0, R(0.0), len));  // (a NaN stays NaN)
-    x = D::cross(s, g.n);
+    // longest dependency chain of the packed 2D law.)
+    x = D::cross(tangent_length_2d<D>(x, g.n), g.n);
   }
 }
 

@@ -46,9 +46,7 @@ struct IncrementalCoulombTangential {
       // length, the increment, and a clamp to [-mu |F_n|, mu |F_n|] -- one square root and no
       // division, where the vector form needs two of each on its chain (measured: the packed
       // 2D law's longest chain, bench_scene_pull_out_2d). The same force to rounding.
-      const R ft_t = D::cross(g.n, s.ft);  // F_t . t
-      const R len = sqrt(s.ft.squaredNorm());
-      R f = select(ft_t < 0.0, R(-len), select(ft_t == 0.0, R(0.0), len));  // (a NaN stays NaN)
+      R f = tangent_length_2d<D>(s.ft, g.n);
       f -= p.ratio * nr.kn * g.dt * D::cross(g.n, g.vt);
       const R limit = p.mu_s * abs(nr.fn);
       f = select(f > limit, limit, select(f < -limit, R(-limit), f));
