@@ -12,6 +12,8 @@ JOBS="${GRANULE_JOBS:-$(nproc 2>/dev/null || echo 2)}"
 # python3-vtk9 and conflicts with it); the first one is installed when none is present.
 DEB_PACKAGES=(build-essential cmake libeigen3-dev catch2 libfftw3-dev libbenchmark-dev libcli11-dev
               python3 python3-numpy python3-matplotlib "python3-vtk9|python3-paraview" pkg-config)
+# Only for test-clang (the wide packs compiled by clang, tests/CMakeLists.txt).
+DEB_PACKAGES_CLANG=(clang libomp-dev)
 # Only for test-mpi (distributed runs, docs/mpi.md).
 DEB_PACKAGES_MPI=(libopenmpi-dev openmpi-bin)
 # What test-mpi builds: the MPI test programs (tests/CMakeLists.txt, label mpi) and the MPI example.
@@ -30,6 +32,8 @@ usage: ./granule.sh <command> [arguments]
   test [ctest args...]         deps + build in build/ + ctest --output-on-failure -j2
   test-sanitize [ctest args...]
                                deps + build with ASan/UBSan (-Og -g1) in build-sanitize/ + ctest
+  test-clang [ctest args...]   deps + clang + build the wide-pack tests (-march=native: AVX-512
+                               where the machine has it) with clang in build-clang/ + ctest
   test-mpi [ctest args...]     deps + Open MPI + build the MPI tests and example in build-mpi/
                                + ctest -L mpi (distributed runs, docs/mpi.md)
   run [example args...]        deps + build + run the main example ($MAIN_EXAMPLE) in out/<name>/
@@ -143,6 +147,22 @@ cmd_test_sanitize() {
   say "sanitizer tests passed in $((SECONDS - start)) s"
 }
 
+# test-clang: the packed laws, lanes and transposes (granule_native_tests: core/test_lanes.cpp,
+# contact/test_packed_contacts*.cpp) compiled by clang with -march=native. The default build and
+# the sanitizers use GCC; under clang with AVX-512, libstdc++ 12's std::experimental::simd once
+# blended nothing (core/lanes.hpp, assign_lanes) and every packed law did nothing, which only a
+# clang build shows. Builds only that target (about a minute), not the whole suite.
+cmd_test_clang() {
+  install_missing "${DEB_PACKAGES[@]}" "${DEB_PACKAGES_CLANG[@]}"
+  local start=$SECONDS
+  configure_and_build "$ROOT/build-clang" -DCMAKE_CXX_COMPILER=clang++ -DGRANULE_BUILD_EXAMPLES=OFF \
+    -- --target granule_native_tests
+  say "build-clang/ configured and built in $((SECONDS - start)) s"
+  start=$SECONDS
+  ctest_env ctest --test-dir "$ROOT/build-clang" --output-on-failure -j2 -R '^native:' "$@"
+  say "clang tests passed in $((SECONDS - start)) s"
+}
+
 # test-mpi: not part of `test` (nor of .ci/run): it needs Open MPI, and the MPI tests run for
 # minutes (mpi_distributed_threads_np2 alone, 4 processes, the longest; leave it out with
 # `-E threads`). The ctest entries set what mpiexec needs (e.g. as root, more ranks than cores).
@@ -230,6 +250,7 @@ main() {
     build) cmd_build "$@" ;;
     test) cmd_test "$@" ;;
     test-sanitize) cmd_test_sanitize "$@" ;;
+    test-clang) cmd_test_clang "$@" ;;
     test-mpi) cmd_test_mpi "$@" ;;
     run) cmd_run "$@" ;;
     bench) cmd_bench "$@" ;;

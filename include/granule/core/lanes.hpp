@@ -99,6 +99,20 @@ struct Dim3Lanes {
 template <class D>
 using LanesOf = std::conditional_t<D::dim == 2, Dim2Lanes, Dim3Lanes>;
 
+/// target = v in the lanes where c holds: every masked assignment of the packed code comes
+/// here. (libstdc++ 12's `stdx::where(c, target) = v` assigns nothing when clang compiles it
+/// for AVX-512, whose masks are bit masks -- clang 14 and 16 checked, 2026-12-07: no contact
+/// law or rebuild test worked and disks fell through the floor. There the blend is written lane
+/// by lane instead; tests/core/test_lanes.cpp holds both compilers to it.)
+inline void assign_lanes(const LaneMask& c, Lane& target, const Lane& v) {
+#if defined(__clang__) && defined(__AVX512F__)
+  const Lane old = target;
+  target = Lane([&](auto l) { return c[l] ? v[l] : old[l]; });
+#else
+  stdx::where(c, target) = v;
+#endif
+}
+
 /// `if (c) target = f();` -- the scalar form.
 template <class T, class F>
 inline void where_assign(bool c, T& target, F&& f) {
@@ -110,7 +124,7 @@ template <class F>
 inline void where_assign(const LaneMask& c, Lane& target, F&& f) {
   if (stdx::any_of(c)) {
     const Lane v = f();
-    stdx::where(c, target) = v;
+    assign_lanes(c, target, v);
   }
 }
 
@@ -118,9 +132,9 @@ template <class F>
 inline void where_assign(const LaneMask& c, LaneVec3& target, F&& f) {
   if (stdx::any_of(c)) {
     const LaneVec3 v = f();
-    stdx::where(c, target.x) = v.x;
-    stdx::where(c, target.y) = v.y;
-    stdx::where(c, target.z) = v.z;
+    assign_lanes(c, target.x, v.x);
+    assign_lanes(c, target.y, v.y);
+    assign_lanes(c, target.z, v.z);
   }
 }
 
@@ -128,8 +142,8 @@ template <class F>
 inline void where_assign(const LaneMask& c, LaneVec2& target, F&& f) {
   if (stdx::any_of(c)) {
     const LaneVec2 v = f();
-    stdx::where(c, target.x) = v.x;
-    stdx::where(c, target.y) = v.y;
+    assign_lanes(c, target.x, v.x);
+    assign_lanes(c, target.y, v.y);
   }
 }
 
@@ -144,29 +158,29 @@ inline void blend_assign(bool c, T& target, F&& f) {
 template <class F>
 inline void blend_assign(const LaneMask& c, Lane& target, F&& f) {
   const Lane v = f();
-  stdx::where(c, target) = v;
+  assign_lanes(c, target, v);
 }
 
 template <class F>
 inline void blend_assign(const LaneMask& c, LaneVec3& target, F&& f) {
   const LaneVec3 v = f();
-  stdx::where(c, target.x) = v.x;
-  stdx::where(c, target.y) = v.y;
-  stdx::where(c, target.z) = v.z;
+  assign_lanes(c, target.x, v.x);
+  assign_lanes(c, target.y, v.y);
+  assign_lanes(c, target.z, v.z);
 }
 
 template <class F>
 inline void blend_assign(const LaneMask& c, LaneVec2& target, F&& f) {
   const LaneVec2 v = f();
-  stdx::where(c, target.x) = v.x;
-  stdx::where(c, target.y) = v.y;
+  assign_lanes(c, target.x, v.x);
+  assign_lanes(c, target.y, v.y);
 }
 
 /// c ? a : b, lane by lane (both are evaluated).
 inline double select(bool c, double a, double b) { return c ? a : b; }
 inline Lane select(const LaneMask& c, const Lane& a, const Lane& b) {
   Lane r = b;
-  stdx::where(c, r) = a;
+  assign_lanes(c, r, a);
   return r;
 }
 

@@ -120,7 +120,7 @@ Simulation<D, Model, Search, Integrator, Parallel>::kick_and_drift(double dt) {
           const Lane e = swap_pairs(d);
           // (Even lanes: dx dx + dy dy in the order of squaredNorm; the odd lanes are dropped.)
           const Lane d2 = even_lanes(d * d + e * e);
-          where(d2 > worst, worst) = d2;
+          assign_lanes(d2 > worst, worst, d2);
         }
       };
       half(std::integral_constant<int, 0>{});
