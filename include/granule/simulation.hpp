@@ -201,8 +201,10 @@ class Simulation {
     for (auto& b : bodies_) b.advance(time_, dt);
     ++step_;
     // The product, not a running sum: no rounding accumulates (20 000 steps of 5e-6 s give
-    // 0.1 s, where adding dt gave 0.10000000000002962 s).
-    time_ = time_origin_ + static_cast<double>(step_ - step_origin_) * dt;
+    // 0.1 s, where adding dt gave 0.10000000000002962 s). Rounded once (std::fma), so that every
+    // build gives the same time: `origin + n * dt` was one rounding or two depending on whether
+    // the compiler fused it (GCC with -march=native did, the baseline build could not).
+    time_ = std::fma(static_cast<double>(step_ - step_origin_), dt, time_origin_);
     const bool record = contacts_wanted(step_);
     if (on_any_rank(drift.list_stale) || body_needs_rebuild()) {
       rebuild_everywhere();

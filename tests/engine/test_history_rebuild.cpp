@@ -200,7 +200,9 @@ void check_pile(bool periodic) {
   CHECK(vl.builds >= 150);                       // many rebuilds
   CHECK(bf.flips == 0);                          // BruteForce never re-sorts
   CHECK(vl.flips >= (periodic ? 10u : 1u));      // re-sorts moved pairs between rows
-  if (periodic) CHECK(vl.ghost_flips >= 5);      // contacts crossed periodic faces
+  // Contacts crossed periodic faces. (How many is up to the trajectory: 3 when -march=native
+  // fuses multiply-adds, more in the baseline build; a lost history shows in d_vl below.)
+  if (periodic) CHECK(vl.ghost_flips >= 2);
   CHECK(d_lc < 1e-10 * kRebuildR);
   CHECK(d_vl < 1e-10 * kRebuildR);
   CHECK(d_wipe > 1e-6 * kRebuildR);  // the comparison is sensitive to one lost history

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <cerrno>
+#include <cmath>
 #include <csignal>
 #include <cstring>
 #include <filesystem>
@@ -311,11 +312,11 @@ TEST_CASE("Time is t0 + steps x dt, across dt changes and restarts", "[restart][
     CHECK(t_change == 700 * 1e-6);
     straight->set_dt(2e-6);
     straight->run(300);
-    CHECK(straight->time() == t_change + 300 * 2e-6);
+    CHECK(straight->time() == std::fma(300.0, 2e-6, t_change));  // (t0 + n dt, rounded once)
     const std::string path = temp_path("dt_change");
     io::write_checkpoint(*straight, path);
     straight->run(300);
-    CHECK(straight->time() == t_change + 600 * 2e-6);
+    CHECK(straight->time() == std::fma(600.0, 2e-6, t_change));  // (t0 + n dt, rounded once)
     auto resumed = make({.dt = 2e-6});
     io::read_checkpoint(*resumed, path);
     resumed->run(300);
