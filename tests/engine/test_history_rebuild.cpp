@@ -203,8 +203,11 @@ void check_pile(bool periodic) {
   // Contacts crossed periodic faces. (How many is up to the trajectory: 3 when -march=native
   // fuses multiply-adds, more in the baseline build; a lost history shows in d_vl below.)
   if (periodic) CHECK(vl.ghost_flips >= 2);
-  CHECK(d_lc < 1e-10 * kRebuildR);
-  CHECK(d_vl < 1e-10 * kRebuildR);
+  // The policies list pairs in different orders, so their force sums differ in the last bits,
+  // which the pile amplifies: < 1e-10 r with GCC, up to 6e-8 r with clang 14 -march=native
+  // (2026-12-07). One lost history moves it by 0.08 r (d_wipe), far above either bound.
+  CHECK(d_lc < 1e-7 * kRebuildR);
+  CHECK(d_vl < 1e-7 * kRebuildR);
   CHECK(d_wipe > 1e-6 * kRebuildR);  // the comparison is sensitive to one lost history
 }
 
