@@ -204,10 +204,16 @@ void check_pile(bool periodic) {
   // fuses multiply-adds, more in the baseline build; a lost history shows in d_vl below.)
   if (periodic) CHECK(vl.ghost_flips >= 2);
   // The policies list pairs in different orders, so their force sums differ in the last bits,
-  // which the pile amplifies: < 1e-10 r with GCC, up to 6e-8 r with clang 14 -march=native
-  // (2026-12-07). One lost history moves it by 0.08 r (d_wipe), far above either bound.
-  CHECK(d_lc < 1e-7 * kRebuildR);
-  CHECK(d_vl < 1e-7 * kRebuildR);
+  // which the pile amplifies: < 1e-10 r with GCC (baseline and -march=native), up to 6e-8 r with
+  // clang 14 -march=native (2026-12-07). One lost history moves it by 0.08 r (d_wipe); the
+  // tight GCC bound also catches a history kept to fewer bits.
+#ifdef __clang__
+  constexpr double kSameTrajectory = 1e-7;
+#else
+  constexpr double kSameTrajectory = 1e-10;
+#endif
+  CHECK(d_lc < kSameTrajectory * kRebuildR);
+  CHECK(d_vl < kSameTrajectory * kRebuildR);
   CHECK(d_wipe > 1e-6 * kRebuildR);  // the comparison is sensitive to one lost history
 }
 
