@@ -151,8 +151,10 @@ Material disk_material() {
   return m;
 }
 
+// disk_records: the geometry reads v, omega and r from contact::DiskRecord copies (the engine's
+// 2D pass) instead of the three arrays; the same bits either way.
 template <class Model>
-void check_packed_against_scalar(double dt, std::uint64_t seed) {
+void check_packed_against_scalar(double dt, std::uint64_t seed, bool disk_records = false) {
   using Chunk = contact::PairChunk<64, 2>;
   using Packed = typename Model::template State<Dim2Lanes>;
   const Material m = disk_material();
@@ -178,8 +180,10 @@ void check_packed_against_scalar(double dt, std::uint64_t seed) {
     chunk->history[c] = static_cast<std::uint32_t>(c);
     ++chunk->count;
   }
+  std::vector<contact::DiskRecord> disks(w.size());
+  contact::fill_disk_records(v.data()->data(), w.data(), radius.data(), w.size(), disks.data());
   const contact::PackedParticles particles{x.data()->data(), v.data()->data(), w.data(), radius.data(),
-                                           inv_mass.data()};
+                                           inv_mass.data(), disk_records ? disks.data() : nullptr};
   chunk->pad();
   std::vector<Stored<Model>> packed_states = states;
   packed_states.resize(Chunk::capacity, Stored<Model>{});
@@ -322,6 +326,36 @@ TEMPLATE_TEST_CASE("Packed 2D contact evaluation equals the one-at-a-time evalua
   SECTION("a step of 1 us") { packed2d_test::check_packed_against_scalar<TestType>(1e-6, 31); }
   SECTION("a step of 20 us (large increments)") { packed2d_test::check_packed_against_scalar<TestType>(2e-5, 32); }
   SECTION("the set-up evaluation (dt = 0)") { packed2d_test::check_packed_against_scalar<TestType>(0.0, 33); }
+  SECTION("v, omega and r read from disk records") {
+    packed2d_test::check_packed_against_scalar<TestType>(2e-5, 34, true);
+  }
+}
+
+TEST_CASE("Disk records copy v, omega and r of every disk exactly", "[contact][packed][2d]") {
+  using packed2d_test::Vec2;
+  // Lengths around the four-disk blocks of the AVX2 copy, so that its tail runs too.
+  std::mt19937_64 rng(35);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (std::size_t n = 0; n <= 13; ++n) {
+    std::vector<Vec2> v(n);
+    std::vector<double> w(n), radius(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      v[i] = Vec2(u(rng), u(rng));
+      w[i] = 100.0 * u(rng);
+      radius[i] = 1e-3 * (2.0 + u(rng));
+    }
+    std::vector<contact::DiskRecord> out(n + 1);
+    out[n].vx = 42.0;  // past the end: untouched
+    contact::fill_disk_records(n > 0 ? v.data()->data() : nullptr, w.data(), radius.data(), n, out.data());
+    for (std::size_t i = 0; i < n; ++i) {
+      INFO("n " << n << ", disk " << i);
+      CHECK(out[i].vx == v[i].x());
+      CHECK(out[i].vy == v[i].y());
+      CHECK(out[i].omega == w[i]);
+      CHECK(out[i].radius == radius[i]);
+    }
+    CHECK(out[n].vx == 42.0);
+  }
 }
 
 TEST_CASE("The 2D touch scan lists the touching entries as the definition does", "[contact][packed][2d]") {

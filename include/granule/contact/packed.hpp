@@ -58,6 +58,35 @@ struct PackedState {
   }
 };
 
+/// 2D: what the packed geometry reads of one disk besides its position, in one 32-byte record:
+/// one aligned load per disk of a pack instead of loads from three arrays (v, omega, radius).
+/// The engine copies them from the particle store at the start of each packed force pass
+/// (fill_disk_records), so nothing else has to keep them current. (Zen 3, 2026-12-07, the two
+/// gathers alternated in one run: the step 3-4 % faster, the copy ~1 % of it.)
+struct alignas(32) DiskRecord {
+  double vx = 0.0, vy = 0.0, omega = 0.0, radius = 0.0;
+};
+
+/// out[i] = (v_i, omega_i, r_i) for i < n; v: n 2-vectors, omega and radius: n doubles. Exact
+/// copies. With AVX2 (also under AVX-512) four disks at a time: 4 loads, 6 shuffles, 4 stores.
+inline void fill_disk_records(const double* v, const double* omega, const double* radius, std::size_t n,
+                              DiskRecord* out) {
+  std::size_t i = 0;
+#if defined(__AVX2__)
+  for (; i + 4 <= n; i += 4) {
+    const __m256d v01 = _mm256_loadu_pd(v + 2 * i), v23 = _mm256_loadu_pd(v + 2 * i + 4);
+    const __m256d w = _mm256_loadu_pd(omega + i), r = _mm256_loadu_pd(radius + i);
+    const __m256d wr02 = _mm256_unpacklo_pd(w, r), wr13 = _mm256_unpackhi_pd(w, r);  // (w0 r0 w2 r2), (w1 r1 w3 r3)
+    double* const o = &out[i].vx;
+    _mm256_store_pd(o, _mm256_permute2f128_pd(v01, wr02, 0x20));
+    _mm256_store_pd(o + 4, _mm256_permute2f128_pd(v01, wr13, 0x21));
+    _mm256_store_pd(o + 8, _mm256_permute2f128_pd(v23, wr02, 0x30));
+    _mm256_store_pd(o + 12, _mm256_permute2f128_pd(v23, wr13, 0x31));
+  }
+#endif
+  for (; i < n; ++i) out[i] = {v[2 * i], v[2 * i + 1], omega[i], radius[i]};
+}
+
 /// What the packed geometry reads of the particles: pointers to the store's arrays, indexed by
 /// particle slot, ghosts included. Vectors are dim consecutive doubles each (3D: x, v, omega as
 /// 3-vectors; 2D: x and v as 2-vectors, omega one double, its z component).
@@ -67,6 +96,9 @@ struct PackedParticles {
   const double* omega;
   const double* radius;
   const double* inv_mass;
+  /// 2D, optional: v, omega and r of each disk as one record (the same values as the three
+  /// arrays, which are then not read).
+  const DiskRecord* disks = nullptr;
 };
 
 /// The terms of a pair's geometry that depend on its radii and inverse masses alone: R*, m* and
@@ -207,7 +239,31 @@ struct PairChunk {
     } else {
       d = vec(p.x, ik) - vec(p.x, jk);
     }
-    const Lane r_i = gather_lanes<By>(p.radius, ik), r_j = gather_lanes<By>(p.radius, jk);
+    Lane r_i, r_j;
+    AngV w_i, w_j;
+    V dv;
+    if constexpr (Dim == 2) {
+      if (p.disks != nullptr) {
+        const double* rec[lane_width];
+        Lane a[4], b[4];
+        for (std::size_t l = 0; l < lane_width; ++l) rec[l] = &p.disks[ik[l]].vx;
+        transpose_in<4>(rec, a);
+        for (std::size_t l = 0; l < lane_width; ++l) rec[l] = &p.disks[jk[l]].vx;
+        transpose_in<4>(rec, b);
+        dv = {a[0] - b[0], a[1] - b[1]};
+        w_i = a[2];
+        w_j = b[2];
+        r_i = a[3];
+        r_j = b[3];
+      }
+    }
+    if (Dim == 3 || p.disks == nullptr) {
+      r_i = gather_lanes<By>(p.radius, ik);
+      r_j = gather_lanes<By>(p.radius, jk);
+      w_i = ang_vec(ik);
+      w_j = ang_vec(jk);
+      dv = vec(p.v, ik) - vec(p.v, jk);
+    }
     const Lane rs = r_i + r_j;
     const Lane dist = sqrt(d.squaredNorm());
     const LaneMask apart = dist > 0.0;
@@ -225,8 +281,6 @@ struct PairChunk {
     g.r_j = r_j;
     g.arm_i = r_i - 0.5 * g.overlap;
     g.arm_j = r_j - 0.5 * g.overlap;
-    const AngV w_i = ang_vec(ik), w_j = ang_vec(jk);
-    const V dv = vec(p.v, ik) - vec(p.v, jk);
     g.v_rel = dv - (g.arm_i * LD::cross(w_i, g.n) + g.arm_j * LD::cross(w_j, g.n));
     g.vn = g.v_rel.dot(g.n);
     g.vt = g.v_rel - g.vn * g.n;

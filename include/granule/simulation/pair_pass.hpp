@@ -17,12 +17,18 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::compute_forces(b
   const std::size_t nb = bodies_.size();
   const std::size_t nw = walls_.size();
   if constexpr (kPredictDamping) predict_damping_velocities();
-  // After step()'s first pass only the ghosts are left: too few to pay for a barrier.
-  const std::size_t reset_from = owned_reset ? n : 0;
-#pragma omp parallel for schedule(static) if (parallel_ && !owned_reset)
-  for (std::size_t i = reset_from; i < m; ++i) {
+  const auto reset = [&](std::size_t i) {
     p.f[i] = (i < n && p.motion[i] == Motion::Free) ? Vec(p.mass[i] * config_.gravity) : Vec(Vec::Zero());
     p.torque[i] = D::zero_ang();
+  };
+  if (parallel_ && !owned_reset) {
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < m; ++i) reset(i);
+  } else {
+    // After step()'s first pass only the ghosts are left: too few to pay for a barrier. (Not a
+    // parallel region switched off by an `if` clause: that still enters the OpenMP runtime,
+    // ~4000 cycles a step, 2 % of the 1600-disk 2D step on a Zen 3.)
+    for (std::size_t i = owned_reset ? n : 0; i < m; ++i) reset(i);
   }
   const std::size_t nl = list_.layers();
   layer_acc_.resize(nl);
@@ -51,6 +57,24 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::compute_forces(b
   }
   if constexpr (kPairConstants)
     if (!record && config_.packed_contacts) update_pair_constants();
+  if constexpr (kPackable && D::dim == 2) {
+    if (!record && config_.packed_contacts) {
+      disk_records_.resize(m);
+      // (Blocks of 1024 particles, a multiple of every lane width: copies, so no order matters.)
+      const std::size_t blocks = (m + 1023) / 1024;
+      const auto fill = [&](std::size_t b) {
+        const std::size_t a = 1024 * b, e = std::min(m, a + 1024);
+        contact::fill_disk_records(scalars(p.v) + 2 * a, p.omega.data() + a, p.radius.data() + a, e - a,
+                                   disk_records_.data() + a);
+      };
+      if (parallel_) {
+#pragma omp parallel for schedule(static)
+        for (std::size_t b = 0; b < blocks; ++b) fill(b);
+      } else {
+        for (std::size_t b = 0; b < blocks; ++b) fill(b);
+      }
+    }
+  }
   const bool parallel = Search::uses_cells;
   // Three colours: layers l and l + 3 never touch the same particle or ghost. Each thread
   // takes one contiguous range of a colour's layers (static schedule), so that it works on
@@ -173,8 +197,7 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::predict_damping_
   const double kick = setup_evaluation_ ? 0.0 : Integrator::second_kick * config_.dt;
   v_damp_.resize(p.size());
   omega_damp_.resize(p.size());
-#pragma omp parallel for schedule(static) if (parallel_)
-  for (std::size_t i = 0; i < n; ++i) {
+  const auto predict = [&](std::size_t i) {
     if (p.motion[i] == Motion::Free) {
       v_damp_[i] = p.v[i] + (kick * p.inv_mass[i]) * p.f[i];
       omega_damp_[i] = p.omega[i] + (kick * p.inv_inertia[i]) * p.torque[i];
@@ -182,6 +205,13 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::predict_damping_
       v_damp_[i] = p.v[i];
       omega_damp_[i] = p.omega[i];
     }
+  };
+  // (Two loops, not an `if` clause: see compute_forces.)
+  if (parallel_) {
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) predict(i);
+  } else {
+    for (std::size_t i = 0; i < n; ++i) predict(i);
   }
   for (std::size_t g = 0; g < p.ghosts(); ++g) {
     v_damp_[n + g] = v_damp_[p.ghost_owner[g]];
@@ -286,7 +316,9 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::prefetch_layer_p
 template <class D, class Model, class Search, class Integrator, class Parallel>
 GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator, Parallel>::process_layer_packed(std::size_t l) {
   if constexpr (kPackable) {
-    using Chunk = contact::PairChunk<64, D::dim>;
+    // (2D: 256 contacts, so that most layers fill one chunk and end in one part-filled pack:
+    // 1-2 % faster than 64 on a Zen 3, where paper 002's layers hold ~65 contacts.)
+    using Chunk = contact::PairChunk<D::dim == 2 ? 256 : 64, D::dim>;
     auto& p = particles_;
     auto& acc = layer_acc_[l];
     const std::size_t r0 = list_.layer_begin[l], r1 = list_.layer_begin[l + 1];
@@ -391,8 +423,8 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::evaluate_chunk(C
   const double max_ratio = config_.max_overlap_ratio;
   chunk.pad();
   static_assert(sizeof(Vec) == D::dim * sizeof(double) && sizeof(AngVec) == D::rot_dim * sizeof(double));
-  const contact::PackedParticles pp{scalars(p.x), scalars(p.v), scalars(p.omega),
-                                    p.radius.data(), p.inv_mass.data()};
+  const contact::PackedParticles pp{scalars(p.x), scalars(p.v), scalars(p.omega), p.radius.data(),
+                                    p.inv_mass.data(), D::dim == 2 ? disk_records_.data() : nullptr};
   // The geometry of the W contacts at k, with the overlap check.
   const auto geometry = [&](std::size_t k, contact::ContactGeometry<LD>& g) {
     const std::size_t valid = std::min(lane_width, chunk.count - k);
@@ -424,13 +456,15 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::evaluate_chunk(C
     if constexpr (kHasState) contact::PackedState<State, PackedState>::store(s, slots, valid);
     chunk.store_force(k, cf);
   };
-  // 2D: two packs at a time, both geometries before both laws. The law is one chain of
-  // dependent steps through the history (the rotation's square root, the increment, the
-  // Coulomb clamp), so the two laws' chains, close together in the instruction stream, overlap
-  // in the core. The same operations per pack: the same bits. (Zen 4, 2026-12-07: one pack at a
-  // time 29.1-30.8 ns against 26.7, three at a time 27.7-28.7 against 25.8-27.4.)
+  // 2D with AVX-512: two packs at a time, both geometries before both laws. The law is one
+  // chain of dependent steps through the history (the rotation's square root, the increment,
+  // the Coulomb clamp), so the two laws' chains, close together in the instruction stream,
+  // overlap in the core. The same operations per pack: the same bits. (Zen 4, 2026-12-07: one
+  // pack at a time 29.1-30.8 ns against 26.7, three at a time 27.7-28.7 against 25.8-27.4.)
+  // With AVX2's 16 registers the two geometries spill: one pack at a time was 2-3 % faster
+  // on a Zen 3 (2026-12-07, the two loops alternated in one run).
   std::size_t k = 0;
-  if constexpr (D::dim == 2) {
+  if constexpr (D::dim == 2 && lane_width == 8) {
     contact::ContactGeometry<LD> g0, g1;
     for (; k + lane_width < chunk.count; k += 2 * lane_width) {
       geometry(k, g0);
