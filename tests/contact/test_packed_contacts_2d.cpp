@@ -260,7 +260,7 @@ struct BedRun {
 /// With `changes`, the run also freezes a fifth of the disks for 40 steps, releases them and
 /// removes a few: the packed loop's per-pair constants (R*, m*, I_r per list entry) must follow.
 template <class Model>
-BedRun run_bed(bool packed, bool changes = false) {
+BedRun run_bed(bool packed, bool changes = false, bool two_materials = false) {
   SimulationConfig<Dim2> cfg;
   const double w = 0.06, h = 0.06;  // [m]
   cfg.domain.lo = Vec2(-0.01, -0.01);
@@ -271,6 +271,11 @@ BedRun run_bed(bool packed, bool changes = false) {
   cfg.packed_contacts = packed;
   Simulation<Dim2, Model> sim(cfg);
   const auto mat = sim.add_material(disk_material());
+  Material stiff = disk_material();
+  stiff.name = "stiff";
+  stiff.youngs_modulus *= 2.0;
+  stiff.friction = 0.3;
+  const auto mat2 = two_materials ? sim.add_material(stiff) : mat;
   const auto wmat = sim.add_wall_material(disk_material());
   sim.add_wall(geometry::PlaneShape<Dim2>(Vec2::Zero(), Vec2::UnitY()), wmat);
   sim.add_wall(geometry::SpheroLineShape(Vec2(-1e-3, 0.0), Vec2(-1e-3, h), 1e-3), wmat);
@@ -291,7 +296,8 @@ BedRun run_bed(bool packed, bool changes = false) {
       const double u = std::clamp((x - a0).dot(a1 - a0) / (a1 - a0).squaredNorm(), 0.0, 1.0);
       if ((x - (a0 + u * (a1 - a0))).norm() < 1e-3 + 1.06e-3 + 5e-5) continue;
       // Rows 2 mm apart, radii 0.98-1.06 mm: most neighbours overlap a little at the start.
-      sim.add_particle(x, uniform(rng, 0.98e-3, 1.06e-3), mat, Vec2(uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3)),
+      sim.add_particle(x, uniform(rng, 0.98e-3, 1.06e-3), (a * 27 + b) % 7 == 3 ? mat2 : mat,
+                       Vec2(uniform(rng, -0.3, 0.3), uniform(rng, -0.3, 0.3)),
                        (a + b) % 5 == 0 ? 1u : 0u);
     }
   if (changes) {
@@ -433,8 +439,12 @@ TEMPLATE_TEST_CASE("A packed 2D run follows the one-at-a-time run", "[contact][p
   // stored state's padding, force scatter, wall contacts one at a time beside it, forces on a
   // moving, turning body) against the scalar loop. 200 steps of a colliding bed: trajectories
   // separate only by amplified rounding.
-  const auto one = packed2d_test::run_bed<TestType>(false);
-  const auto packed = packed2d_test::run_bed<TestType>(true);
+  // Also with every seventh disk of a second material (twice as stiff, less friction): the
+  // packed loop then looks up each pair's parameters (step() finds more than one material).
+  const bool two_materials = GENERATE(false, true);
+  INFO("two materials: " << two_materials);
+  const auto one = packed2d_test::run_bed<TestType>(false, false, two_materials);
+  const auto packed = packed2d_test::run_bed<TestType>(true, false, two_materials);
   REQUIRE(one.contacts > 150);
   CHECK(packed.contacts == one.contacts);
   double dx = 0.0, dv = 0.0, dw = 0.0, vmax = 0.0, wmax = 0.0;

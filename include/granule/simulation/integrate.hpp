@@ -132,17 +132,23 @@ Simulation<D, Model, Search, Integrator, Parallel>::kick_and_drift(double dt) {
       return false;
     }
   };
-  // Unit c: block c of W particles (c < nb), then single particles. Takes the materials'
-  // range and the largest squared displacement (one-at-a-time particles in `worst`).
+  // Unit c: block c of W particles (c < nb), then single particles. Takes the largest squared
+  // displacement (one-at-a-time particles in `worst`) and whether a material differs from the
+  // first particle's: with one material the packed loop need not look up each pair's (ghosts
+  // carry their owners' material). A block's W materials in one vector operation: their
+  // scalar min and max were 1-1.4 % of the 2D step (Zen 3, 2026-12-07).
+  using MaterialLanes = stdx::fixed_size_simd<std::uint32_t, W>;
+  const std::uint32_t m0 = n > 0 ? material[0] : 0;
   const std::size_t nb = blocks ? n / W : 0;
   const std::size_t units = nb + (n - nb * W);
-  const auto unit = [=](std::size_t c, Lane& worst_lanes, double& worst, std::uint32_t& lo,
-                        std::uint32_t& hi) GRANULE_ALWAYS_INLINE {
+  const auto unit = [=](std::size_t c, Lane& worst_lanes, double& worst, MaterialLanes& other_lanes,
+                        std::uint32_t& other) GRANULE_ALWAYS_INLINE {
     const std::size_t b = c < nb ? c * W : nb * W + (c - nb);
     const std::size_t e = c < nb ? b + W : b + 1;
-    for (std::size_t i = b; i < e; ++i) {
-      lo = std::min(lo, material[i]);
-      hi = std::max(hi, material[i]);
+    if (c < nb) {
+      other_lanes |= MaterialLanes(material + b, stdx::element_aligned) ^ m0;
+    } else {
+      other |= material[b] ^ m0;
     }
     if (c < nb && block(b, worst_lanes)) return;
     for (std::size_t i = b; i < e; ++i) worst = std::max(worst, particle(i));
@@ -152,19 +158,25 @@ Simulation<D, Model, Search, Integrator, Parallel>::kick_and_drift(double dt) {
     for (std::size_t l = 0; l < W; ++l) m = std::max(m, w[l]);
     return m;
   };
+  const auto lanes_or = [](const MaterialLanes& v) {
+    std::uint32_t r = 0;
+    for (std::size_t l = 0; l < W; ++l) r |= v[l];
+    return r;
+  };
   int moved = 0;
-  // The range of particle materials: with one material the packed loop need not look up
-  // each pair's (ghosts carry their owners' material).
-  std::uint32_t mat_lo = std::numeric_limits<std::uint32_t>::max(), mat_hi = 0;
+  std::uint32_t other_material = 0;
   if (parallel_) {
-#pragma omp parallel reduction(| : moved) reduction(min : mat_lo) reduction(max : mat_hi)
+#pragma omp parallel reduction(| : moved, other_material)
     {
       const auto local = unit;  // (a copy per thread: the shared one is read through memory)
       Lane worst_lanes(0.0);
       double worst = 0.0;
+      MaterialLanes other_lanes(0u);
+      std::uint32_t other = 0;
 #pragma omp for schedule(static)
-      for (std::size_t c = 0; c < units; ++c) local(c, worst_lanes, worst, mat_lo, mat_hi);
+      for (std::size_t c = 0; c < units; ++c) local(c, worst_lanes, worst, other_lanes, other);
       moved |= static_cast<int>(std::max(worst, lanes_max(worst_lanes)) > lim2);
+      other_material |= other | lanes_or(other_lanes);
     }
   } else {
     // (The largest displacement, not an `or` of the tests: GCC kept that flag in memory, and
@@ -172,13 +184,13 @@ Simulation<D, Model, Search, Integrator, Parallel>::kick_and_drift(double dt) {
     const auto local = unit;
     Lane worst_lanes(0.0);
     double worst = 0.0;
-    std::uint32_t lo = mat_lo, hi = mat_hi;
-    for (std::size_t c = 0; c < units; ++c) local(c, worst_lanes, worst, lo, hi);
+    MaterialLanes other_lanes(0u);
+    std::uint32_t other = 0;
+    for (std::size_t c = 0; c < units; ++c) local(c, worst_lanes, worst, other_lanes, other);
     moved = static_cast<int>(std::max(worst, lanes_max(worst_lanes)) > lim2);
-    mat_lo = lo;
-    mat_hi = hi;
+    other_material = other | lanes_or(other_lanes);
   }
-  return {!test_moves || moved != 0, n > 0 && mat_lo == mat_hi};
+  return {!test_moves || moved != 0, n > 0 && other_material == 0};
 }
 
 template <class D, class Model, class Search, class Integrator, class Parallel>
