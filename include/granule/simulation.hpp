@@ -656,6 +656,7 @@ class Simulation {
   std::vector<PairWork> pair_work_;
   std::vector<contact::PairConstants> pair_constants_;  ///< per list entry (kPairConstants only)
   std::vector<double> pair_reach_;  ///< r_i + r_j per list entry, for the touch scan (kPairConstants only)
+  std::vector<std::uint32_t> entry_row_;  ///< the row of each list entry, for the touch scan (kPairConstants only)
   /// 2D packed pass: v, omega and r of every particle slot, copied at the pass's start.
   std::vector<contact::DiskRecord> disk_records_;
   /// The list's generation pair_constants_ were computed for (none yet: the maximum).

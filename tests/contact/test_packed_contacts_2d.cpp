@@ -384,6 +384,14 @@ TEST_CASE("The 2D touch scan lists the touching entries as the definition does",
     row_begin.push_back(static_cast<std::uint32_t>(nbr.size()));
   }
   const contact::TouchScanInput in{x.data()->data(), r.data(), row_begin.data(), nbr.data(), slot.data(), none};
+  // The engine's 2D form: r_i + r_j and the row given per entry (8 of room after the last).
+  std::vector<double> reach(nbr.size() + 8, 0.0);
+  std::vector<std::uint32_t> entry_row(nbr.size() + 8, 0u);
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (std::uint32_t e = row_begin[i]; e < row_begin[i + 1]; ++e) {
+      reach[e] = r[i] + r[nbr[e]];
+      entry_row[e] = i;
+    }
   std::size_t listed = 0;
   for (const auto& [r0, r1] : {std::pair<std::uint32_t, std::uint32_t>{0, 300}, {5, 6}, {17, 211}, {150, 150}}) {
     INFO("rows " << r0 << " to " << r1);
@@ -413,6 +421,14 @@ TEST_CASE("The 2D touch scan lists the touching entries as the definition does",
       REQUIRE(s2x[k] == d.x());
       REQUIRE(s2y[k] == d.y());
     }
+    contact::TouchScanInput in4 = in;
+    in4.reach = reach.data();
+    in4.entry_row = entry_row.data();
+    std::vector<std::uint32_t> t4(nbr.size() + 8), rows4(nbr.size() + 8);
+    std::vector<std::pair<std::uint32_t, bool>> c4;
+    const std::size_t n4 = contact::scan_rows<2>(in4, r0, r1, t4.data(), rows4.data(),
+                                                 [&](std::uint32_t e, bool t) { c4.emplace_back(e, t); });
+    t4.resize(n4), rows4.resize(n4);
     t1.resize(n1), rows1.resize(n1), t2.resize(n2), rows2.resize(n2);
     std::vector<std::uint32_t> expected, expected_rows;
     for (std::uint32_t i = r0; i < r1; ++i)
@@ -428,6 +444,9 @@ TEST_CASE("The 2D touch scan lists the touching entries as the definition does",
     CHECK(t2 == expected);
     CHECK(rows2 == expected_rows);
     CHECK(c2 == expected_calls);
+    CHECK(t4 == expected);
+    CHECK(rows4 == expected_rows);
+    CHECK(c4 == expected_calls);
     listed += n1;
   }
   CHECK(listed > 1000);

@@ -5,7 +5,8 @@
 // separates gives it back).
 //
 // With AVX-512 or AVX2 the layer's entries are scanned W at a time (8 or 4) as one stream,
-// across row ends: the rows are first written out per entry, then each block of W reads both
+// across row ends: the rows are first written out per entry (or read from the caller's per-entry
+// rows, TouchScanInput::entry_row), then each block of W reads both
 // particles' positions through the lane transposes (core/lane_transpose.hpp), and the touching
 // entries are packed together (one compress instruction with AVX-512; a lane permutation from
 // a 16-entry table with AVX2). (Scanning row by row, 8 lanes for rows of 3 to 4 entries in
@@ -37,6 +38,11 @@ struct TouchScanInput {
   /// the radii itself. (The 2D engine keeps it with the per-pair constants: one load per block
   /// instead of 16 scattered ones.)
   const double* reach = nullptr;
+  /// The row of every entry (and 8 of room after the last), or nullptr: the scan then writes
+  /// the rows out per entry itself, into `rows`, at the start of every scan. (The 2D engine
+  /// keeps it with the per-pair constants: the write-out, and the blocks' reads of rows just
+  /// written, were 6 % of a 2D step on a Zen 3, measured inside one run on 2026-12-07.)
+  const std::uint32_t* entry_row = nullptr;
   /// Output, if set (2D engine): x_i - x_j of each touching entry, axis by axis (separation[k]
   /// for axis k, Dim arrays with the room of `touching`), at the entry's place in `touching`. The
   /// packed geometry reads it instead of gathering both positions again; the same subtraction,
@@ -182,12 +188,13 @@ inline std::size_t scan_rows(const TouchScanInput& in, std::uint32_t r0, std::ui
     constexpr std::uint32_t W = lane_width;
     const std::uint32_t e0 = in.row_begin[r0], e1 = in.row_begin[r1];
     if (e0 == e1) return 0;
-    // The row of every entry, 8 at a time (a row's last store runs into the next row's part,
-    // which that row's stores then overwrite). Every row stores its first 8 even when it is
-    // empty (the next row, starting at the same entry, overwrites them; the last ones fall in
-    // the 8 entries of room): whether a row is empty is an unpredictable branch in a sparse
-    // bed (2D disks: 2.4 entries per row), which cost 2-3 % of a step.
-    for (std::uint32_t i = r0; i < r1; ++i) {
+    // The row of every entry, unless the caller has them (TouchScanInput::entry_row): 8 at a
+    // time (a row's last store runs into the next row's part, which that row's stores then
+    // overwrite). Every row stores its first 8 even when it is empty (the next row, starting at
+    // the same entry, overwrites them; the last ones fall in the 8 entries of room): whether a
+    // row is empty is an unpredictable branch in a sparse bed (2D disks: 2.4 entries per row),
+    // which cost 2-3 % of a step.
+    for (std::uint32_t i = r0; in.entry_row == nullptr && i < r1; ++i) {
       const __m256i row = _mm256_set1_epi32(static_cast<int>(i));
       const std::uint32_t b = in.row_begin[i], end = in.row_begin[i + 1];
       _mm256_storeu_si256(reinterpret_cast<__m256i*>(rows + (b - e0)), row);
@@ -195,12 +202,12 @@ inline std::size_t scan_rows(const TouchScanInput& in, std::uint32_t r0, std::ui
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(rows + (e - e0)), row);
     }
     std::size_t nt = 0;
-    // The output is written over the row list: block b's output ends at or before its own
-    // input's end, and the blocks after it read only beyond that.
+    // Without entry_row the output is written over the row list: block b's output ends at or
+    // before its own input's end, and the blocks after it read only beyond that.
     for (std::uint32_t e = e0; e < e1; e += W) {
       const std::uint32_t count = e1 - e < W ? e1 - e : W;
       const unsigned valid = (1u << count) - 1u;
-      const std::uint32_t* ip = rows + (e - e0);
+      const std::uint32_t* ip = in.entry_row != nullptr ? in.entry_row + e : rows + (e - e0);
       const std::uint32_t* jp = in.nbr + e;
       // The layer's last block: its lanes past the end repeat its last entry.
       std::uint32_t i_tail[W], j_tail[W];

@@ -78,7 +78,8 @@ inline std::size_t Simulation<D, Model, Search, Integrator, Parallel>::memory_by
     work += (w.entries.capacity() + w.rows.capacity()) * sizeof(std::uint32_t);
     work += (w.separation[0].capacity() + w.separation[1].capacity()) * sizeof(double);
   }
-  work += pair_constants_.capacity() * sizeof(contact::PairConstants) + pair_reach_.capacity() * sizeof(double);
+  work += pair_constants_.capacity() * sizeof(contact::PairConstants) + pair_reach_.capacity() * sizeof(double) +
+          entry_row_.capacity() * sizeof(std::uint32_t) + disk_records_.capacity() * sizeof(contact::DiskRecord);
   return p.x.capacity() * per + list_.memory_bytes() + work;
 }
 

@@ -336,7 +336,8 @@ GRANULE_FLATTEN inline void Simulation<D, Model, Search, Integrator, Parallel>::
     std::uint32_t* const rows = work.rows.data();
     contact::TouchScanInput scan{scalars(p.x), p.radius.data(), list_.row_begin.data(),
                                  list_.nbr.data(), kHasState ? list_.slot.data() : nullptr, List::kNone,
-                                 kPairConstants ? pair_reach_.data() : nullptr};
+                                 kPairConstants ? pair_reach_.data() : nullptr,
+                                 kPairConstants ? entry_row_.data() : nullptr};
     // 2D: the scan hands the touching pairs' x_i - x_j to the geometry (one gather of both
     // positions per pair instead of two; 3D was left as measured).
     if constexpr (D::dim == 2) {
@@ -512,8 +513,10 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::update_pair_cons
   const std::size_t n = list_.row_begin.empty() ? 0 : list_.row_begin.size() - 1;
   pair_constants_.assign(list_.nbr.size(), contact::PairConstants{});
   pair_reach_.assign(list_.nbr.size() + 8, 0.0);  // (8 of room for the scan's last block)
+  entry_row_.assign(list_.nbr.size() + 8, 0u);
   contact::PairConstants* const out = pair_constants_.data();
   double* const reach = pair_reach_.data();
+  std::uint32_t* const entry_row = entry_row_.data();
   const auto* const row_begin = list_.row_begin.data();
   const auto* const nbr = list_.nbr.data();
   const double* const radius = p.radius.data();
@@ -524,6 +527,7 @@ inline void Simulation<D, Model, Search, Integrator, Parallel>::update_pair_cons
     for (std::uint32_t e = row_begin[i]; e < row_begin[i + 1]; ++e) {
       const std::uint32_t j = nbr[e];
       const double r_i = radius[i], r_j = radius[j], im_i = inv_mass[i], im_j = inv_mass[j];
+      entry_row[e] = static_cast<std::uint32_t>(i);
       reach[e] = r_i + r_j;
       contact::PairConstants& c = out[e];
       c.r_eff = contact::effective_radius(r_i, r_j, r_i + r_j);
