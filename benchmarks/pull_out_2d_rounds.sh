@@ -7,7 +7,8 @@
 # 2026-12-07); BEFORE=3e22e0b~1 times 395a523 itself, so that ratio is the speed-up of the 2D
 # path per core. The three runs follow different trajectories (rounding), and the bed's contact
 # count swings with them (0.25-1.46 contacts per disk at the end of the runs): compare rounds.
-#   benchmarks/pull_out_2d_rounds.sh [BUILD_DIR] [ROUNDS] [BEFORE]   (defaults: build-bench, 5, none)
+#   benchmarks/pull_out_2d_rounds.sh [BUILD_DIR] [ROUNDS] [BEFORE]   (defaults: build-bench, 5, none;
+#   ROUNDS 0 builds and prepares the beds only)
 # Builds bench_scene_pull_out_2d with -march=native if needed, prepares the bed once in
 # out/bench/pull_out_2d.ckpt, then prints one line per run and the best of each loop.
 # BEFORE (a commit, e.g. 3e22e0b~1, the engine before 2D packing) adds a third column: the same
@@ -21,7 +22,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${1:-$ROOT/build-bench}"
 ROUNDS="${2:-5}"
 BEFORE="${3:-}"
-[[ "$ROUNDS" =~ ^[1-9][0-9]*$ ]] || { echo "ROUNDS must be a positive integer, got '$ROUNDS'" >&2; exit 2; }
+[[ "$ROUNDS" =~ ^[0-9]+$ ]] || { echo "ROUNDS must be a non-negative integer, got '$ROUNDS'" >&2; exit 2; }
 cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DGRANULE_NATIVE=ON -DGRANULE_BUILD_BENCHMARKS=ON \
   -DGRANULE_BUILD_TESTS=OFF -DGRANULE_BUILD_EXAMPLES=OFF > /dev/null
 cmake --build "$BUILD" --target bench_scene_pull_out_2d > /dev/null
@@ -39,7 +40,7 @@ if [[ -n "$BEFORE" ]]; then
     git -C "$ROOT" archive "$hash" | tar -x -C "$src"
   fi
   # This benchmark's source, as it is now (it compiles against engines back to 395a523).
-  cp "$ROOT/benchmarks/scene_pull_out_2d.cpp" "$src/benchmarks/scene_pull_out_2d.cpp"
+  cp "$ROOT/benchmarks/scene_pull_out_2d.cpp" "$ROOT/benchmarks/pull_out_2d_scene.hpp" "$src/benchmarks/"
   cmake -S "$src" -B "$BUILD/before-$hash/build" -DCMAKE_BUILD_TYPE=Release -DGRANULE_NATIVE=ON \
     -DGRANULE_BUILD_BENCHMARKS=ON -DGRANULE_BUILD_TESTS=OFF -DGRANULE_BUILD_EXAMPLES=OFF > /dev/null
   cmake --build "$BUILD/before-$hash/build" --target bench_scene_pull_out_2d > /dev/null
@@ -48,6 +49,8 @@ if [[ -n "$BEFORE" ]]; then
   [[ -f "$BEFORE_BED" ]] || "$BEFORE_EXE" --prepare "$BEFORE_BED"
   loops=(before one-at-a-time packed)
 fi
+# (0 rounds: the builds and beds only, for benchmarks/inrun/pull_out_2d_inrun.sh.)
+((ROUNDS > 0)) || exit 0
 declare -A best=([before]=1e9 [packed]=1e9 [one-at-a-time]=1e9)
 for ((r = 1; r <= ROUNDS; ++r)); do
   for loop in "${loops[@]}"; do
