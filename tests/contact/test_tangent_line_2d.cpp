@@ -103,7 +103,7 @@ TEST_CASE("2D incremental Coulomb: a history along the normal has no tangential 
   // fused into one multiply-add, and -march=native with FMA fuses them; then the rounding error
   // picks a side of the line and the history keeps its length, which is the rotation's answer
   // to a history that is along n only to within rounding.)
-  for (const Vec axis : {Vec(0.0, 1.0), Vec(-1.0, 0.0)}) {
+  for (const Vec& axis : {Vec(0.0, 1.0), Vec(-1.0, 0.0)}) {
     ContactGeometry<Dim2> ga = g;
     ga.n = axis;
     s.ft = 0.3 * axis;

@@ -71,7 +71,7 @@ struct PackedState {
 /// one aligned load per disk of a pack instead of loads from three arrays (v, omega, radius).
 /// The engine copies them from the particle store at the start of each packed force pass
 /// (fill_disk_records), so nothing else has to keep them current. (Zen 3, 2026-12-07, the two
-/// gathers alternated in one run: the step 3-4 % faster, the copy ~1 % of it.)
+/// gathers alternated in one run: the step 3-4 % faster, the copy ~2 % of it.)
 struct alignas(32) DiskRecord {
   double vx = 0.0, vy = 0.0, omega = 0.0, radius = 0.0;
 };
