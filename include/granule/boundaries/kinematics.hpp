@@ -102,14 +102,17 @@ auto piecewise_linear(std::vector<double> times, std::vector<V> values) -> std::
                    "{" + std::to_string(n) + "} (= times.size())");
   for (std::size_t k = 0; k < n; ++k) {
     // Appended rather than "times[" + to_string(k): GCC 12 warns (-Wrestrict, a false positive)
-    // on operator+(const char*, string&&) once this is inlined.
+    // on operator+(const char*, string&&) once this is inlined (-O3).
     std::string tk = "times[";
     tk += std::to_string(k);
     tk += ']';
     granule::require_finite(times[k], where, tk);
-    if (k > 0)
-      granule::require(times[k] > times[k - 1], where, tk, times[k],
-                       "(" + granule::detail::to_text(times[k - 1]) + ", inf) (strictly increasing times)");
+    if (k > 0) {
+      std::string range = "(";
+      range += granule::detail::to_text(times[k - 1]);
+      range += ", inf) (strictly increasing times)";
+      granule::require(times[k] > times[k - 1], where, tk, times[k], range);
+    }
     detail::require_finite_value(values[k], where, "values[" + std::to_string(k) + "]");
   }
   return [times = std::move(times), values = std::move(values)](double t) -> V {
