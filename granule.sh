@@ -17,8 +17,7 @@ DEB_PACKAGES_CLANG=(clang libomp-dev)
 # Only for test-mpi (distributed runs, docs/mpi.md).
 DEB_PACKAGES_MPI=(libopenmpi-dev openmpi-bin)
 # What test-mpi builds: the MPI test programs (tests/CMakeLists.txt, label mpi) and the MPI example.
-MPI_TARGETS=(granule_mpi_context granule_mpi_distributed granule_mpi_checkpoint granule_mpi_output
-             granule_mpi_rebalance 02_pour_settle_mpi)
+MPI_TARGETS=(granule_mpi_context granule_mpi_suites 02_pour_settle_mpi)
 
 say() { printf '[granule.sh] %s\n' "$*" >&2; }
 die() { say "error: $*"; exit 1; }

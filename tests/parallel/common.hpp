@@ -1,5 +1,5 @@
 #pragma once
-// What the MPI test programs (tests/parallel/*_main.cpp) share: the two engines compared, the
+// What the MPI test suites (tests/parallel/*_suite.cpp) share: the two engines compared, the
 // failure count every rank keeps (summed or maxed over the ranks at the end), the comparison of
 // a gathered state with the one-process run, the settled bed that starts both runs, and a file's
 // bytes.

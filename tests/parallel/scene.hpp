@@ -1,5 +1,5 @@
 #pragma once
-// The scene of the distributed-engine tests (tests/parallel/distributed_main.cpp) and of the
+// The scene of the distributed-engine tests (tests/parallel/distributed_suite.cpp) and of the
 // single-process identity check: frictional Hertz-Mindlin spheres in a box, poured on a
 // lattice with jitter, settling under gravity onto a floor plane on a body that slides along x
 // (shearing the bed), periodic along x (and optionally z), fixed walls on the other axes.

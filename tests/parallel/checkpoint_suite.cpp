@@ -18,7 +18,7 @@
 //                      against the one-process file <one> restarted in one process (which is
 //                      bitwise the uninterrupted one-process run: tests/restart/test_checkpoint.cpp).
 //
-// Equality: to the tolerance of tests/parallel/distributed_main.cpp (1e-7 r, 1e-6 m/s, 1e-3 1/s,
+// Equality: to the tolerance of tests/parallel/distributed_suite.cpp (1e-7 r, 1e-6 m/s, 1e-3 1/s,
 // 1e-7 relative floor force over the first 400 steps of a settled bed). Not bitwise, even on the
 // rank count that wrote the file: the file holds no build positions and a one-process list, so a
 // restart rebuilds its list at its first step (histories carried by key), where the
@@ -39,7 +39,7 @@ using namespace granule;
 using Vec = Dim3::Vec;
 using namespace granule::test_parallel;  // check, failures, Single, Distributed, ...
 
-namespace {
+namespace checkpoint_suite {
 
 constexpr std::uint64_t kSave = 100, kAfter = 300;  // steps before the checkpoint, after it
 
@@ -227,10 +227,9 @@ void load_mode(const parallel::MpiContext& mpi, const std::string& file, const s
         g, sim.wall(0).force, ref.gather(), ref.wall(0).force, config.domain);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  parallel::MpiContext mpi(argc, argv);
+// The suite's entry, called by tests/parallel/mpi_suites_main.cpp: argv[0] is the suite's name,
+// argv[1..] its arguments.
+int run(parallel::MpiContext& mpi, int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "save";
   return mpi.run([&] {
     if (mode == "save" && argc > 2) {
@@ -248,3 +247,5 @@ int main(int argc, char** argv) {
     return total == 0 ? 0 : 1;
   });
 }
+
+}  // namespace checkpoint_suite

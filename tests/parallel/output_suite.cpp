@@ -12,7 +12,7 @@
 //   4. a CSV time series of the reduced energies written by rank 0 alone.
 //
 // Equality: with one rank bitwise (the distributed engine is bitwise the one-process run);
-// with 2 and 4 the states differ by about 1e-9 r after 200 steps (distributed_main.cpp), so
+// with 2 and 4 the states differ by about 1e-9 r after 200 steps (distributed_suite.cpp), so
 // the energies and stresses are compared to 1e-6 relative and the contact counts exactly.
 #include <cmath>
 #include <cstdio>
@@ -35,7 +35,7 @@ using namespace granule;
 using Vec = Dim3::Vec;
 using namespace granule::test_parallel;  // check, failures, Single, Distributed, ...
 
-namespace {
+namespace output_suite {
 
 // Compares a with b: bitwise when `exact`, else to `tol` relative to |b| (or to `scale`).
 void same(const std::string& what, double a, double b, bool exact, double tol, double scale = 0.0) {
@@ -47,10 +47,9 @@ void same(const std::string& what, double a, double b, bool exact, double tol, d
     check(rel <= tol, what + ": differs by more than " + std::to_string(tol) + " relative", 0);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  parallel::MpiContext mpi(argc, argv);
+// The suite's entry, called by tests/parallel/mpi_suites_main.cpp: argv[0] is the suite's name,
+// argv[1..] its arguments.
+int run(parallel::MpiContext& mpi, int argc, char** argv) {
   const std::string dir = argc > 1 ? argv[1] : "mpi_output";
   return mpi.run([&] {
     test_parallel::SceneOptions o;
@@ -182,3 +181,5 @@ int main(int argc, char** argv) {
     return total == 0 ? 0 : 1;
   });
 }
+
+}  // namespace output_suite

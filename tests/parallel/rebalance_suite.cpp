@@ -6,7 +6,7 @@
 // the particles migrate with their histories; the test checks that the imbalance then stays
 // below the threshold (the pour compacts and the cuts are remade again when it passes 1.2), that
 // the run still matches the one-process run over the first 3000 steps (1e-7 r, 1e-6 m/s, as
-// tests/parallel/distributed_main.cpp), and that with the threshold off (0) nothing is remade
+// tests/parallel/distributed_suite.cpp), and that with the threshold off (0) nothing is remade
 // and the imbalance stays R.
 // Measured: bitwise the one-process run until the grains pile up (about step 2000: a particle's
 // contact forces summed in another order), then the collisional pour amplifies the last bits
@@ -24,8 +24,11 @@ using namespace granule;
 using Vec = Dim3::Vec;
 using namespace granule::test_parallel;  // check, failures, Single, Distributed, ...
 
-int main(int argc, char** argv) {
-  parallel::MpiContext mpi(argc, argv);
+namespace rebalance_suite {
+
+// The suite's entry, called by tests/parallel/mpi_suites_main.cpp: argv[0] is the suite's name,
+// argv[1..] its arguments.
+int run(parallel::MpiContext& mpi, int /*argc*/, char** /*argv*/) {
   return mpi.run([&] {
     test_parallel::SceneOptions o;  // 960 spheres, walls and lid of the scene's own box
     auto config = test_parallel::scene_config(o);
@@ -78,3 +81,5 @@ int main(int argc, char** argv) {
     return total == 0 ? 0 : 1;
   });
 }
+
+}  // namespace rebalance_suite

@@ -57,7 +57,7 @@ using namespace granule;
 using Vec = Dim3::Vec;
 using namespace granule::test_parallel;  // check, failures, Single, Distributed, ...
 
-namespace {
+namespace distributed_suite {
 
 // Every contact between particles of different ranks is held on both ranks (each evaluates it
 // for its own particle). Both must hold the same history: gathered to rank 0, keyed by (lower
@@ -454,10 +454,9 @@ void mismatch_case(const parallel::MpiContext& mpi, bool only_root) {
   if (ok) std::printf("rank %d: stopped with: %s\n", mpi.rank(), what.c_str());
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  parallel::MpiContext mpi(argc, argv);
+// The suite's entry, called by tests/parallel/mpi_suites_main.cpp: argv[0] is the suite's name,
+// argv[1..] its arguments.
+int run(parallel::MpiContext& mpi, int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "checks";
   return mpi.run([&] {
     if (mode == "error") {
@@ -488,3 +487,5 @@ int main(int argc, char** argv) {
     return total == 0 ? 0 : 1;
   });
 }
+
+}  // namespace distributed_suite
