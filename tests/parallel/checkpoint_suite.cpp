@@ -43,16 +43,6 @@ namespace checkpoint_suite {
 
 constexpr std::uint64_t kSave = 100, kAfter = 300;  // steps before the checkpoint, after it
 
-test_parallel::SceneOptions slab() {
-  test_parallel::SceneOptions o;
-  o.nx = 24;
-  o.ny = 6;
-  o.nz = 7;
-  o.periodic_z = true;
-  o.floor_speed = 0.5;
-  return o;
-}
-
 // On rank 0: `got` against the reference, to the stated tolerance.
 void judge(const std::string& name, const GatheredParticles<Dim3>& got, const Vec& f_got,
            const GatheredParticles<Dim3>& ref, const Vec& f_ref, const Domain<Dim3>& dom) {
@@ -90,7 +80,7 @@ void expect_io_error(const parallel::MpiContext& mpi, const std::string& name, c
 }
 
 void save_mode(const parallel::MpiContext& mpi, const std::string& dir) {
-  const auto o = slab();
+  const auto o = test_parallel::sheared_slab();
   const auto config = test_parallel::scene_config(o);
   const auto bed = test_parallel::settled_bed(o, 12000);
   const std::string R = std::to_string(mpi.size());
@@ -208,7 +198,7 @@ void save_mode(const parallel::MpiContext& mpi, const std::string& dir) {
 }
 
 void load_mode(const parallel::MpiContext& mpi, const std::string& file, const std::string& one_file) {
-  const auto o = slab();
+  const auto o = test_parallel::sheared_slab();
   const auto config = test_parallel::scene_config(o);
   Distributed sim(config, parallel::MpiDomains(mpi));
   scene_only(sim, o);

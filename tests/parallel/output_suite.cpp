@@ -52,12 +52,7 @@ void same(const std::string& what, double a, double b, bool exact, double tol, d
 int run(parallel::MpiContext& mpi, int argc, char** argv) {
   const std::string dir = argc > 1 ? argv[1] : "mpi_output";
   return mpi.run([&] {
-    test_parallel::SceneOptions o;
-    o.nx = 24;
-    o.ny = 6;
-    o.nz = 7;
-    o.periodic_z = true;
-    o.floor_speed = 0.5;
+    const test_parallel::SceneOptions o = test_parallel::sheared_slab();
     const auto config = test_parallel::scene_config(o);
     // The bed: poured and settled in one process (every rank the same), then sheared.
     std::vector<std::pair<Vec, double>> bed;

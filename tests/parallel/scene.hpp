@@ -19,6 +19,18 @@ struct SceneOptions {
   double radius = 1.0e-3;           ///< mean radius [m]
 };
 
+/// The sheared slab: periodic along x and z, long along x (cut across the ranks along x), the
+/// floor sliding at 0.5 m/s (the distributed, checkpoint and output suites).
+inline SceneOptions sheared_slab() {
+  SceneOptions o;
+  o.nx = 24;
+  o.ny = 6;
+  o.nz = 7;
+  o.periodic_z = true;
+  o.floor_speed = 0.5;
+  return o;
+}
+
 inline Domain<Dim3> scene_domain(const SceneOptions& o) {
   Domain<Dim3> d;
   const double s = 2.4 * o.radius;
