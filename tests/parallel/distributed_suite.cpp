@@ -473,7 +473,8 @@ int run(parallel::MpiContext& mpi, int argc, char** argv) {
     } else {
       test_parallel::SceneOptions column;
       run_case(mpi, "column", column, parallel::RankGrid{{0, 0, 0}}, 12000, 400, 2000, 100);
-      run_case(mpi, "periodic-x", test_parallel::sheared_slab(), parallel::RankGrid{{mpi.size(), 1, 1}}, 12000, 400, 2000, 100);
+      run_case(mpi, "periodic-x", test_parallel::sheared_slab(), parallel::RankGrid{{mpi.size(), 1, 1}}, 12000, 400,
+               2000, 100);
     }
     const int total = static_cast<int>(mpi.max(failures));
     if (mpi.root()) std::printf(total == 0 ? "distributed %s: OK (%d ranks)\n" : "distributed %s: FAILED (%d ranks)\n",

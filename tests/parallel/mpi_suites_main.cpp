@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   if (std::strcmp(suite, "output") == 0) return output_suite::run(mpi, argc - 1, argv + 1);
   if (std::strcmp(suite, "rebalance") == 0) return rebalance_suite::run(mpi, argc - 1, argv + 1);
   if (mpi.root())
-    std::printf("usage: %s distributed|checkpoint|output|rebalance [arguments]\n", argc > 0 ? argv[0] : "granule_mpi_suites");
+    std::printf("usage: %s distributed|checkpoint|output|rebalance [arguments]\n",
+                argc > 0 ? argv[0] : "granule_mpi_suites");
   return 2;
 }
